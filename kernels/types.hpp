@@ -1,0 +1,26 @@
+#pragma once
+// Execution and memory space of one engine build, and the View aliases used by every kernel.
+// Each library target is compiled for one backend by defining KDEM_EXEC_SPACE.
+#include <Kokkos_Core.hpp>
+#include <cstdint>
+
+#ifndef KDEM_EXEC_SPACE
+#define KDEM_EXEC_SPACE Kokkos::DefaultExecutionSpace
+#endif
+
+namespace kdem {
+
+using ExecSpace = KDEM_EXEC_SPACE;
+using MemSpace = ExecSpace::memory_space;
+using RangePolicy = Kokkos::RangePolicy<ExecSpace>;
+
+template <class T>
+using DeviceView = Kokkos::View<T, MemSpace>;
+
+using Vec3View = DeviceView<double* [3]>;
+using QuatView = DeviceView<double* [4]>;
+using ScalarView = DeviceView<double*>;
+using IndexView = DeviceView<int*>;
+using IdView = DeviceView<std::int64_t*>;
+
+}  // namespace kdem
