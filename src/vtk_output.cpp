@@ -1,0 +1,275 @@
+#include "vtk_output.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+
+#include <vtkCellArray.h>
+#include <vtkCellType.h>
+#include <vtkCommand.h>
+#include <vtkDoubleArray.h>
+#include <vtkExecutive.h>
+#include <vtkFieldData.h>
+#include <vtkIdTypeArray.h>
+#include <vtkIntArray.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+#include <vtkStringArray.h>
+#include <vtkTypeInt64Array.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLPolyDataWriter.h>
+#include <vtkXMLUnstructuredGridWriter.h>
+
+#include "atomic_file.hpp"
+
+namespace kdem {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Collects VTK error messages of one writer, so that they go into our exception instead of
+// VTK's output window.
+class VtkErrorCollector : public vtkCommand {
+public:
+  static VtkErrorCollector* New() { return new VtkErrorCollector; }
+  // VTK's text reads "ERROR: In <source>, line <n>\n<class> (<address>): <message>\n\n".
+  void Execute(vtkObject*, unsigned long, void* call_data) override {
+    if (call_data == nullptr) {
+      return;
+    }
+    std::string text = static_cast<const char*>(call_data);
+    const std::size_t message_start = text.find("): ");
+    if (message_start != std::string::npos) {
+      text.erase(0, message_start + 3);
+    }
+    text.erase(text.find_last_not_of('\n') + 1);
+    messages += (messages.empty() ? "" : "; ") + text;
+  }
+  std::string messages;
+};
+
+std::runtime_error write_error(const fs::path& path, const std::string& reason) {
+  return std::runtime_error("cannot write '" + path.string() + "': " + reason);
+}
+
+void check_length(const fs::path& path, const char* field, std::size_t actual, std::size_t per_item,
+                  std::size_t item_count, const char* items) {
+  if (actual != per_item * item_count) {
+    throw write_error(path, std::string(field) + " has " + std::to_string(actual) +
+                                " values, expected " + std::to_string(per_item) + " per " + items +
+                                " for " + std::to_string(item_count) + " " + items + "s");
+  }
+}
+
+void check_particle_lengths(const fs::path& path, const ParticleSnapshot& snapshot) {
+  const std::size_t count = snapshot.size();
+  check_length(path, "position", snapshot.position.size(), 3, count, "particle");
+  check_length(path, "velocity", snapshot.velocity.size(), 3, count, "particle");
+  check_length(path, "angular_velocity", snapshot.angular_velocity.size(), 3, count, "particle");
+  check_length(path, "quaternion", snapshot.quaternion.size(), 4, count, "particle");
+  check_length(path, "shape", snapshot.shape.size(), 1, count, "particle");
+  check_length(path, "material", snapshot.material.size(), 1, count, "particle");
+  check_length(path, "id", snapshot.id.size(), 1, count, "particle");
+}
+
+template <class VtkArray, class Value>
+vtkSmartPointer<VtkArray> make_array(const char* name, int components,
+                                     const std::vector<Value>& values) {
+  auto array = vtkSmartPointer<VtkArray>::New();
+  array->SetName(name);
+  array->SetNumberOfComponents(components);
+  array->SetNumberOfTuples(static_cast<vtkIdType>(values.size() / components));
+  std::copy(values.begin(), values.end(), array->GetPointer(0));
+  return array;
+}
+
+vtkSmartPointer<vtkPoints> make_points(const std::vector<double>& coordinates) {
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  points->SetData(make_array<vtkDoubleArray>("Points", 3, coordinates));
+  return points;
+}
+
+// Cells of equal size whose point indices are listed in connectivity.
+vtkSmartPointer<vtkCellArray> make_uniform_cells(vtkIdType points_per_cell,
+                                                 const std::vector<vtkIdType>& connectivity) {
+  auto cells = vtkSmartPointer<vtkCellArray>::New();
+  cells->SetData(points_per_cell, make_array<vtkIdTypeArray>("connectivity", 1, connectivity));
+  return cells;
+}
+
+void add_time_field_data(vtkDataObject* data, double time, std::int64_t step) {
+  data->GetFieldData()->AddArray(make_array<vtkDoubleArray>("TimeValue", 1, std::vector{time}));
+  data->GetFieldData()->AddArray(
+      make_array<vtkTypeInt64Array>("step", 1, std::vector<std::int64_t>{step}));
+}
+
+void write_with_xml_writer(vtkXMLWriter* writer, vtkDataObject* data, const fs::path& path) {
+  PendingFile pending(path);
+  auto errors = vtkSmartPointer<VtkErrorCollector>::New();
+  writer->AddObserver(vtkCommand::ErrorEvent, errors);
+  // The pipeline repeats the writer's failure as a long request dump: keep it off the console.
+  auto pipeline_errors = vtkSmartPointer<VtkErrorCollector>::New();
+  writer->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, pipeline_errors);
+  writer->SetInputData(data);
+  writer->SetFileName(pending.temporary().string().c_str());
+  writer->SetDataModeToAppended();
+  writer->EncodeAppendedDataOff();
+  writer->SetCompressorTypeToZLib();
+  writer->SetHeaderTypeToUInt64(); // array sizes above 4 GiB
+  if (writer->Write() != 1 || writer->GetErrorCode() != 0 || !errors->messages.empty()) {
+    throw write_error(path, "VTK writer failed" +
+                                (errors->messages.empty() ? "" : ": " + errors->messages));
+  }
+  pending.commit();
+}
+
+std::vector<vtkIdType> checked_triangle_connectivity(const fs::path& path,
+                                                     const WallSurface& wall) {
+  const auto point_count = static_cast<std::int64_t>(wall.points.size() / 3);
+  std::vector<vtkIdType> connectivity(wall.triangles.begin(), wall.triangles.end());
+  for (std::size_t i = 0; i < connectivity.size(); ++i) {
+    if (connectivity[i] < 0 || connectivity[i] >= point_count) {
+      throw write_error(path, "wall '" + wall.name + "' triangle " + std::to_string(i / 3) +
+                                  " refers to point " + std::to_string(connectivity[i]) + " of " +
+                                  std::to_string(point_count));
+    }
+  }
+  return connectivity;
+}
+
+std::string shortest_decimal(double value) {
+  char buffer[64];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::string(buffer, result.ptr);
+}
+
+std::string xml_attribute_escaped(const std::string& text) {
+  std::string escaped;
+  for (const char c : text) {
+    switch (c) {
+    case '&':
+      escaped += "&amp;";
+      break;
+    case '<':
+      escaped += "&lt;";
+      break;
+    case '>':
+      escaped += "&gt;";
+      break;
+    case '"':
+      escaped += "&quot;";
+      break;
+    case '\'':
+      escaped += "&apos;";
+      break;
+    default:
+      escaped += c;
+    }
+  }
+  return escaped;
+}
+
+} // namespace
+
+void write_particles_vtu(const fs::path& path, const ParticleSnapshot& snapshot) {
+  check_particle_lengths(path, snapshot);
+  std::vector<vtkIdType> point_of_vertex(snapshot.size());
+  for (std::size_t i = 0; i < point_of_vertex.size(); ++i) {
+    point_of_vertex[i] = static_cast<vtkIdType>(i);
+  }
+
+  auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  grid->SetPoints(make_points(snapshot.position));
+  grid->SetCells(VTK_VERTEX, make_uniform_cells(1, point_of_vertex));
+  vtkPointData* point_data = grid->GetPointData();
+  point_data->AddArray(make_array<vtkDoubleArray>("velocity", 3, snapshot.velocity));
+  point_data->AddArray(
+      make_array<vtkDoubleArray>("angular_velocity", 3, snapshot.angular_velocity));
+  point_data->AddArray(make_array<vtkDoubleArray>("quaternion", 4, snapshot.quaternion));
+  point_data->AddArray(make_array<vtkDoubleArray>("radius", 1, snapshot.radius));
+  point_data->AddArray(make_array<vtkIntArray>("shape", 1, snapshot.shape));
+  point_data->AddArray(make_array<vtkIntArray>("material", 1, snapshot.material));
+  point_data->AddArray(make_array<vtkTypeInt64Array>("id", 1, snapshot.id));
+  add_time_field_data(grid, snapshot.time, snapshot.step);
+
+  write_with_xml_writer(vtkSmartPointer<vtkXMLUnstructuredGridWriter>::New(), grid, path);
+}
+
+void write_wall_vtp(const fs::path& path, const WallSurface& wall) {
+  check_length(path, "wall points", wall.points.size(), 3, wall.points.size() / 3, "point");
+  check_length(path, "wall triangles", wall.triangles.size(), 3, wall.triangles.size() / 3,
+               "triangle");
+  const std::vector<vtkIdType> connectivity = checked_triangle_connectivity(path, wall);
+
+  auto surface = vtkSmartPointer<vtkPolyData>::New();
+  surface->SetPoints(make_points(wall.points));
+  surface->SetPolys(make_uniform_cells(3, connectivity));
+  auto name = vtkSmartPointer<vtkStringArray>::New();
+  name->SetName("name");
+  name->InsertNextValue(wall.name);
+  surface->GetFieldData()->AddArray(name);
+
+  write_with_xml_writer(vtkSmartPointer<vtkXMLPolyDataWriter>::New(), surface, path);
+}
+
+std::string pvd_collection_text(const std::vector<PvdSeries::Entry>& entries) {
+  std::string text = "<?xml version=\"1.0\"?>\n"
+                     "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+                     "  <Collection>\n";
+  for (const PvdSeries::Entry& entry : entries) {
+    text += "    <DataSet timestep=\"" + shortest_decimal(entry.time) + "\" group=\"\" part=\"" +
+            std::to_string(entry.part) + "\" file=\"" + xml_attribute_escaped(entry.relative_file) +
+            "\"/>\n";
+  }
+  text += "  </Collection>\n</VTKFile>\n";
+  return text;
+}
+
+PvdSeries::PvdSeries(fs::path directory, std::string basename)
+    : directory_(std::move(directory)), basename_(std::move(basename)) {
+  if (basename_.empty()) {
+    throw std::invalid_argument("PvdSeries in '" + directory_.string() + "': empty basename");
+  }
+}
+
+fs::path PvdSeries::path() const {
+  return directory_ / (basename_ + ".pvd");
+}
+
+void PvdSeries::add(double time, const std::string& relative_file, int part) {
+  add_entries(time, {{time, part, relative_file}});
+}
+
+void PvdSeries::add_parts(double time, const std::vector<std::string>& relative_files) {
+  std::vector<Entry> new_entries;
+  for (std::size_t part = 0; part < relative_files.size(); ++part) {
+    new_entries.push_back({time, static_cast<int>(part), relative_files[part]});
+  }
+  add_entries(time, new_entries);
+}
+
+// Entries are only kept once the file listing them has been written.
+void PvdSeries::add_entries(double time, const std::vector<Entry>& new_entries) {
+  if (!std::isfinite(time)) {
+    throw std::invalid_argument("cannot add to '" + path().string() + "': time is not finite");
+  }
+  const std::size_t old_size = entries_.size();
+  entries_.insert(entries_.end(), new_entries.begin(), new_entries.end());
+  try {
+    write();
+  } catch (...) {
+    entries_.resize(old_size);
+    throw;
+  }
+}
+
+void PvdSeries::write() const {
+  write_text_atomically(path(), pvd_collection_text(entries_));
+}
+
+} // namespace kdem
