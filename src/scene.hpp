@@ -93,7 +93,7 @@ struct WallConfig {
   double radius = 0;
   double length = 0;
   // mesh: STL file (path relative to the scene file), scaled then translated
-  std::string file;
+  std::string file;  // as loaded: absolute, resolved against the scene file's folder
   double scale = 1;
   Vec3d translate{0, 0, 0};
   MotionConfig motion;
@@ -119,7 +119,8 @@ struct SceneConfig {
   Vec3d gravity{0, 0, -9.81};
   double time_step = 0;     // s
   double duration = 0;      // s of simulated time
-  double skin = 0;          // m, Verlet skin; 0 = 0.1 x the smallest radius... set by loader
+  double skin = 0;          // m, Verlet skin; when the file has none, the loader sets 0.1 x the
+                            // smallest particle radius of the scene
   bool has_domain = false;
   Vec3d domain_min{0, 0, 0}, domain_max{0, 0, 0};  // else derived from walls and regions
   std::vector<MaterialConfig> materials;

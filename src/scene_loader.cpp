@@ -1,0 +1,931 @@
+#include "scene_loader.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <utility>
+#include <vector>
+
+namespace kdem {
+
+SceneError::SceneError(const std::string& message, int line, int column, std::string key_path)
+    : std::runtime_error(message), line_(line), column_(column), key_path_(std::move(key_path)) {}
+
+SceneError::SceneError(const std::string& message) : std::runtime_error(message) {}
+
+namespace {
+
+namespace fs = std::filesystem;
+using KeyList = std::vector<std::string>;
+
+// The scene being read: names the file in messages and anchors relative paths.
+struct SceneSource {
+  std::string display_name;
+  fs::path base_dir;
+};
+
+[[noreturn]] void throw_at(const SceneSource& source, const YAML::Mark& mark,
+                           const std::string& key_path, const std::string& what) {
+  const int line = mark.line + 1;
+  const int column = mark.column + 1;
+  std::string message =
+      source.display_name + ":" + std::to_string(line) + ":" + std::to_string(column) + ": ";
+  if (!key_path.empty())
+    message += key_path + ": ";
+  throw SceneError(message + what, line, column, key_path);
+}
+
+std::string join(const KeyList& words, const std::string& separator = ", ") {
+  std::string joined;
+  for (std::size_t i = 0; i < words.size(); ++i)
+    joined += (i ? separator : "") + words[i];
+  return joined;
+}
+
+std::string format_number(double number) {
+  std::ostringstream text;
+  text << number;
+  return text.str();
+}
+
+std::string format_vector(const Vec3d& vector) {
+  return "[" + format_number(vector[0]) + ", " + format_number(vector[1]) + ", " +
+         format_number(vector[2]) + "]";
+}
+
+std::string quoted_scalar(const std::string& scalar) {
+  constexpr std::size_t longest_shown = 60;
+  if (scalar.size() <= longest_shown)
+    return "\"" + scalar + "\"";
+  return "\"" + scalar.substr(0, longest_shown) + "...\"";
+}
+
+bool all_items_scalar(const YAML::Node& sequence) {
+  for (const auto& item : sequence)
+    if (!item.IsScalar())
+      return false;
+  return true;
+}
+
+// What a value holds, as shown after "got" in messages.
+std::string describe_found(const YAML::Node& node) {
+  if (node.IsNull())
+    return "an empty value";
+  if (node.IsScalar())
+    return quoted_scalar(node.Scalar());
+  if (node.IsMap())
+    return "a mapping";
+  constexpr std::size_t longest_listed = 6;
+  if (node.size() > longest_listed || !all_items_scalar(node))
+    return "a sequence of " + std::to_string(node.size()) + " items";
+  KeyList items;
+  for (const auto& item : node)
+    items.push_back(item.Scalar());
+  return "[" + join(items) + "]";
+}
+
+// A YAML value together with where it sits: its key path and its position in the file. A
+// required key that is absent is a missing Value positioned at the mapping that lacks it.
+class Value {
+public:
+  Value(YAML::Node node, std::string path, YAML::Mark mark, const SceneSource& source)
+      : node_(std::move(node)), path_(std::move(path)), mark_(mark), source_(&source) {}
+
+  static Value missing_key(const Value& mapping, const std::string& key) {
+    Value absent(YAML::Node(), mapping.child_path(key), mapping.mark_, *mapping.source_);
+    absent.missing_ = true;
+    return absent;
+  }
+
+  const YAML::Node& node() const { return node_; }
+  const std::string& path() const { return path_; }
+  const YAML::Mark& mark() const { return mark_; }
+  const SceneSource& source() const { return *source_; }
+  bool missing() const { return missing_; }
+
+  bool is_scalar() const { return !missing_ && node_.IsScalar(); }
+  bool is_sequence() const { return !missing_ && node_.IsSequence(); }
+  bool is_mapping() const { return !missing_ && node_.IsMap(); }
+
+  std::string child_path(const std::string& key) const {
+    return path_.empty() ? key : path_ + "." + key;
+  }
+
+  Value item(std::size_t index) const {
+    const YAML::Node item_node = node_[index];
+    return Value(item_node, path_ + "[" + std::to_string(index) + "]", item_node.Mark(), *source_);
+  }
+
+  std::string found() const {
+    return missing_ ? "nothing (required key is missing)" : describe_found(node_);
+  }
+
+  [[noreturn]] void fail(const std::string& what) const { throw_at(*source_, mark_, path_, what); }
+  [[noreturn]] void expected(const std::string& expectation, const std::string& note = "") const {
+    fail("expected " + expectation + ", got " + found() + (note.empty() ? "" : " (" + note + ")"));
+  }
+
+private:
+  YAML::Node node_;
+  std::string path_;
+  YAML::Mark mark_;
+  const SceneSource* source_;
+  bool missing_ = false;
+};
+
+std::size_t edit_distance(const std::string& from, const std::string& to) {
+  std::vector<std::size_t> row(to.size() + 1);
+  for (std::size_t j = 0; j <= to.size(); ++j)
+    row[j] = j;
+  for (std::size_t i = 1; i <= from.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= to.size(); ++j) {
+      const std::size_t substitution = diagonal + (from[i - 1] == to[j - 1] ? 0 : 1);
+      diagonal = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, substitution});
+    }
+  }
+  return row[to.size()];
+}
+
+std::string spelling_hint(const std::string& key, const KeyList& allowed_keys) {
+  constexpr std::size_t farthest_typo = 2;
+  std::string closest;
+  std::size_t closest_distance = farthest_typo + 1;
+  for (const auto& allowed : allowed_keys) {
+    const std::size_t distance = edit_distance(key, allowed);
+    if (distance < closest_distance) {
+      closest = allowed;
+      closest_distance = distance;
+    }
+  }
+  return closest.empty() ? "" : "did you mean \"" + closest + "\"?";
+}
+
+// A YAML mapping whose keys have been checked: each one allowed, none twice.
+class Mapping {
+public:
+  Mapping(const Value& value, const KeyList& allowed_keys, const std::string& context = "")
+      : self_(value) {
+    const std::string keys = join(allowed_keys) + (context.empty() ? "" : " " + context);
+    if (!value.is_mapping())
+      value.expected("a mapping with keys " + keys);
+    for (const auto& entry : value.node())
+      add_entry(entry.first, entry.second, allowed_keys, "one of the keys " + keys);
+  }
+
+  const Value& value() const { return self_; }
+  bool has(const std::string& key) const { return entries_.count(key) != 0; }
+
+  std::optional<Value> find(const std::string& key) const {
+    const auto entry = entries_.find(key);
+    if (entry == entries_.end())
+      return std::nullopt;
+    return Value(entry->second.value, self_.child_path(key), value_mark(entry->second),
+                 self_.source());
+  }
+
+  Value get(const std::string& key) const {
+    auto found = find(key);
+    return found ? *found : Value::missing_key(self_, key);
+  }
+
+  YAML::Mark key_mark(const std::string& key) const { return entries_.at(key).key.Mark(); }
+
+private:
+  struct Entry {
+    YAML::Node key;
+    YAML::Node value;
+  };
+
+  void add_entry(const YAML::Node& key, const YAML::Node& value, const KeyList& allowed_keys,
+                 const std::string& expectation) {
+    const std::string name = key.IsScalar() ? key.Scalar() : "";
+    const Value key_value(key, self_.child_path(name), key.Mark(), self_.source());
+    const bool allowed =
+        std::find(allowed_keys.begin(), allowed_keys.end(), name) != allowed_keys.end();
+    if (!allowed)
+      key_value.fail("expected " + expectation + ", got the key " + key_value.found() +
+                     suffix(spelling_hint(name, allowed_keys)));
+    const auto earlier = entries_.find(name);
+    if (earlier != entries_.end())
+      key_value.fail("expected each key once, got \"" + name + "\" again (first at line " +
+                     std::to_string(earlier->second.key.Mark().line + 1) + ")");
+    entries_.emplace(name, Entry{key, value});
+  }
+
+  static std::string suffix(const std::string& hint) {
+    return hint.empty() ? "" : " (" + hint + ")";
+  }
+
+  // An empty value is positioned where the next token starts; its key's position is clearer.
+  static YAML::Mark value_mark(const Entry& entry) {
+    const bool empty = entry.value.IsNull() || entry.value.Mark().is_null();
+    return empty ? entry.key.Mark() : entry.value.Mark();
+  }
+
+  Value self_;
+  std::map<std::string, Entry> entries_;
+};
+
+// ---- scalars ----------------------------------------------------------------------------------
+
+double finite_number(const Value& value, const std::string& expectation) {
+  double number = 0;
+  if (!value.is_scalar() || !YAML::convert<double>::decode(value.node(), number) ||
+      !std::isfinite(number))
+    value.expected(expectation);
+  return number;
+}
+
+template <class Accept>
+double number_where(const Value& value, const std::string& expectation, Accept accept) {
+  const double number = finite_number(value, expectation);
+  if (!accept(number))
+    value.expected(expectation);
+  return number;
+}
+
+bool is_positive(double number) {
+  return number > 0;
+}
+bool is_non_negative(double number) {
+  return number >= 0;
+}
+
+double positive(const Value& value, const std::string& unit) {
+  return number_where(value, "a positive number in " + unit, is_positive);
+}
+
+double non_negative(const Value& value, const std::string& unit) {
+  return number_where(value, "a number >= 0 in " + unit, is_non_negative);
+}
+
+double restitution(const Value& value) {
+  return number_where(value, "a coefficient of restitution in (0, 1]",
+                      [](double e) { return e > 0 && e <= 1; });
+}
+
+double friction(const Value& value) {
+  return number_where(value, "a friction coefficient >= 0", is_non_negative);
+}
+
+double poisson_ratio(const Value& value) {
+  return number_where(value, "a Poisson ratio in (-1, 0.5)",
+                      [](double nu) { return nu > -1 && nu < 0.5; });
+}
+
+// A whole number >= smallest; written as an integer or as an integral number such as 1e5.
+std::int64_t whole_number(const Value& value, std::int64_t smallest) {
+  const std::string expectation = "a whole number >= " + std::to_string(smallest);
+  long long whole = 0;
+  if (!value.is_scalar() || !YAML::convert<long long>::decode(value.node(), whole)) {
+    constexpr double largest_exact_whole = 9007199254740992.0; // 2^53
+    const double number = finite_number(value, expectation);
+    if (number != std::floor(number) || std::fabs(number) > largest_exact_whole)
+      value.expected(expectation);
+    whole = static_cast<long long>(number);
+  }
+  if (whole < smallest)
+    value.expected(expectation);
+  return whole;
+}
+
+bool boolean(const Value& value) {
+  bool flag = false;
+  if (!value.is_scalar() || !YAML::convert<bool>::decode(value.node(), flag))
+    value.expected("true or false");
+  return flag;
+}
+
+std::string text(const Value& value, const std::string& expectation) {
+  if (!value.is_scalar() || value.node().Scalar().empty())
+    value.expected(expectation);
+  return value.node().Scalar();
+}
+
+std::string one_of_words(const Value& value, const KeyList& words) {
+  const std::string expectation = "one of " + join(words);
+  const std::string word = text(value, expectation);
+  if (std::find(words.begin(), words.end(), word) == words.end())
+    value.expected(expectation);
+  return word;
+}
+
+// ---- vectors and lists ------------------------------------------------------------------------
+
+Vec3d vector3(const Value& value, const std::string& meaning) {
+  if (!value.is_sequence() || value.node().size() != 3)
+    value.expected("a sequence of 3 numbers [x, y, z] " + meaning);
+  Vec3d vector{};
+  for (std::size_t axis = 0; axis < 3; ++axis)
+    vector[axis] = finite_number(value.item(axis), "a number " + meaning);
+  return vector;
+}
+
+Vec3d unit_direction(const Value& value) {
+  Vec3d direction = vector3(value, "(a direction)");
+  const double length = std::sqrt(direction[0] * direction[0] + direction[1] * direction[1] +
+                                  direction[2] * direction[2]);
+  if (length == 0)
+    value.expected("a direction vector of non-zero length");
+  for (double& component : direction)
+    component /= length;
+  return direction;
+}
+
+void require_sequence(const Value& list, const std::string& expectation, bool allow_empty) {
+  if (!list.is_sequence() || (!allow_empty && list.node().size() == 0))
+    list.expected(expectation);
+}
+
+template <class ReadItem>
+void for_each_item(const Value& list, const std::string& expectation, bool allow_empty,
+                   ReadItem read_item) {
+  require_sequence(list, expectation, allow_empty);
+  for (std::size_t index = 0; index < list.node().size(); ++index)
+    read_item(list.item(index));
+}
+
+std::vector<double> number_list(const Value& list, const std::string& list_expectation,
+                                const std::string& item_expectation, bool (*accept)(double)) {
+  std::vector<double> numbers;
+  for_each_item(list, list_expectation, false, [&](const Value& item) {
+    numbers.push_back(number_where(item, item_expectation, accept));
+  });
+  return numbers;
+}
+
+// Names seen so far in one list, to refuse a second entry of the same name.
+class UniqueNames {
+public:
+  explicit UniqueNames(std::string list_name) : list_name_(std::move(list_name)) {}
+
+  void add(const Value& where, const std::string& name) {
+    const auto earlier = first_use_.find(name);
+    if (earlier != first_use_.end())
+      where.expected("a name not used by another entry of " + list_name_,
+                     "already the name of " + earlier->second);
+    first_use_.emplace(name, where.path() + " at line " + std::to_string(where.mark().line + 1));
+  }
+
+private:
+  std::string list_name_;
+  std::map<std::string, std::string> first_use_;
+};
+
+std::string unique_name(const Value& value, UniqueNames& names) {
+  const std::string name = text(value, "a name");
+  names.add(value, name);
+  return name;
+}
+
+// The one key of `choices` that `map` holds; refuses none and more than one.
+std::string exactly_one_key(const Mapping& map, const KeyList& choices) {
+  KeyList present;
+  for (const auto& key : choices)
+    if (map.has(key))
+      present.push_back(key);
+  const std::string expectation = "expected exactly one of the keys " + join(choices);
+  if (present.empty())
+    map.value().fail(expectation + ", got none");
+  if (present.size() > 1)
+    throw_at(map.value().source(), map.key_mark(present[1]), map.value().path(),
+             expectation + ", got " + join(present, " and "));
+  return present.front();
+}
+
+// ---- materials --------------------------------------------------------------------------------
+
+KeyList material_names(const std::vector<MaterialConfig>& materials) {
+  KeyList names;
+  for (const auto& material : materials)
+    names.push_back(material.name);
+  return names;
+}
+
+const MaterialConfig& material_named(const Value& value,
+                                     const std::vector<MaterialConfig>& materials) {
+  const std::string expectation =
+      "the name of a material defined under materials (" + join(material_names(materials)) + ")";
+  const std::string name = text(value, expectation);
+  for (const auto& material : materials)
+    if (material.name == name)
+      return material;
+  value.expected(expectation);
+}
+
+MaterialConfig read_material(const Value& value, UniqueNames& names) {
+  const Mapping map(value, {"name", "density", "youngs_modulus", "poisson_ratio", "restitution",
+                            "friction", "rolling_friction"});
+  MaterialConfig material;
+  material.name = unique_name(map.get("name"), names);
+  material.density = positive(map.get("density"), "kg/m^3");
+  material.youngs_modulus = positive(map.get("youngs_modulus"), "Pa");
+  material.poisson_ratio = poisson_ratio(map.get("poisson_ratio"));
+  if (auto value_found = map.find("restitution"))
+    material.restitution = restitution(*value_found);
+  if (auto value_found = map.find("friction"))
+    material.friction = friction(*value_found);
+  if (auto value_found = map.find("rolling_friction"))
+    material.rolling_friction = friction(*value_found);
+  return material;
+}
+
+std::vector<MaterialConfig> read_materials(const Value& list) {
+  std::vector<MaterialConfig> materials;
+  UniqueNames names("materials");
+  for_each_item(list, "a non-empty sequence of materials", false,
+                [&](const Value& item) { materials.push_back(read_material(item, names)); });
+  return materials;
+}
+
+InteractionConfig read_interaction(const Value& value, const std::vector<MaterialConfig>& materials,
+                                   UniqueNames& pairs) {
+  const Mapping map(value, {"materials", "restitution", "friction", "rolling_friction"});
+  const Value pair = map.get("materials");
+  if (!pair.is_sequence() || pair.node().size() != 2)
+    pair.expected("a sequence of 2 material names [a, b]");
+  const MaterialConfig& a = material_named(pair.item(0), materials);
+  const MaterialConfig& b = material_named(pair.item(1), materials);
+  pairs.add(pair, std::min(a.name, b.name) + " + " + std::max(a.name, b.name));
+
+  InteractionConfig interaction{a.name, b.name, 0.5 * (a.restitution + b.restitution),
+                                0.5 * (a.friction + b.friction),
+                                0.5 * (a.rolling_friction + b.rolling_friction)};
+  if (auto value_found = map.find("restitution"))
+    interaction.restitution = restitution(*value_found);
+  if (auto value_found = map.find("friction"))
+    interaction.friction = friction(*value_found);
+  if (auto value_found = map.find("rolling_friction"))
+    interaction.rolling_friction = friction(*value_found);
+  return interaction;
+}
+
+std::vector<InteractionConfig> read_interactions(const Value& list,
+                                                 const std::vector<MaterialConfig>& materials) {
+  std::vector<InteractionConfig> interactions;
+  UniqueNames pairs("interactions");
+  for_each_item(list, "a sequence of material-pair interactions", true, [&](const Value& item) {
+    interactions.push_back(read_interaction(item, materials, pairs));
+  });
+  return interactions;
+}
+
+// ---- boxes, regions, particle sources ---------------------------------------------------------
+
+// Reads `min` and `max` of a box; max must exceed min in every coordinate.
+void read_box_corners(const Mapping& map, Vec3d& min, Vec3d& max) {
+  min = vector3(map.get("min"), "in metres");
+  const Value max_value = map.get("max");
+  max = vector3(max_value, "in metres");
+  for (std::size_t axis = 0; axis < 3; ++axis)
+    if (max[axis] <= min[axis])
+      max_value.expected("a corner greater than min = " + format_vector(min) +
+                         " in x, y and z (in metres)");
+}
+
+RegionConfig read_region(const Value& value) {
+  const Mapping map(value, {"box", "cylinder"});
+  RegionConfig region;
+  if (exactly_one_key(map, {"box", "cylinder"}) == "box") {
+    region.kind = RegionConfig::Kind::Box;
+    read_box_corners(Mapping(map.get("box"), {"min", "max"}), region.min, region.max);
+    return region;
+  }
+  const Mapping cylinder(map.get("cylinder"), {"base_center", "radius", "height"});
+  region.kind = RegionConfig::Kind::Cylinder;
+  region.base_center = vector3(cylinder.get("base_center"), "in metres");
+  region.radius = positive(cylinder.get("radius"), "metres");
+  region.height = positive(cylinder.get("height"), "metres");
+  return region;
+}
+
+void region_bounds(const RegionConfig& region, Vec3d& low, Vec3d& high) {
+  if (region.kind == RegionConfig::Kind::Box) {
+    low = region.min;
+    high = region.max;
+    return;
+  }
+  const Vec3d& base = region.base_center;
+  low = {base[0] - region.radius, base[1] - region.radius, base[2]};
+  high = {base[0] + region.radius, base[1] + region.radius, base[2] + region.height};
+}
+
+void check_region_in_domain(const Value& where, const RegionConfig& region,
+                            const SceneConfig& scene) {
+  if (!scene.has_domain)
+    return;
+  Vec3d low{}, high{};
+  region_bounds(region, low, high);
+  for (std::size_t axis = 0; axis < 3; ++axis)
+    if (low[axis] < scene.domain_min[axis] || high[axis] > scene.domain_max[axis])
+      where.fail("expected a region inside the domain " + format_vector(scene.domain_min) + " .. " +
+                 format_vector(scene.domain_max) + ", got one reaching " + format_vector(low) +
+                 " .. " + format_vector(high));
+}
+
+using SizeKind = SizeDistributionConfig::Kind;
+
+SizeKind size_kind(const std::string& word) {
+  if (word == "uniform")
+    return SizeKind::Uniform;
+  if (word == "gaussian")
+    return SizeKind::Gaussian;
+  if (word == "discrete")
+    return SizeKind::Discrete;
+  return SizeKind::Monodisperse;
+}
+
+KeyList size_keys(SizeKind kind) {
+  switch (kind) {
+  case SizeKind::Uniform:
+    return {"distribution", "min_radius", "max_radius"};
+  case SizeKind::Gaussian:
+    return {"distribution", "mean_radius", "std_radius", "min_radius", "max_radius"};
+  case SizeKind::Discrete:
+    return {"distribution", "radii", "mass_fractions"};
+  case SizeKind::Monodisperse:
+    break;
+  }
+  return {"distribution", "radius"};
+}
+
+void read_radius_bounds(const Mapping& map, SizeDistributionConfig& sizes) {
+  sizes.min_radius = positive(map.get("min_radius"), "metres");
+  const Value max_value = map.get("max_radius");
+  sizes.max_radius = positive(max_value, "metres");
+  if (sizes.max_radius < sizes.min_radius)
+    max_value.expected("a radius >= min_radius (" + format_number(sizes.min_radius) + " m)");
+}
+
+void read_gaussian(const Mapping& map, SizeDistributionConfig& sizes) {
+  const Value mean_value = map.get("mean_radius");
+  sizes.mean_radius = positive(mean_value, "metres");
+  sizes.std_radius = positive(map.get("std_radius"), "metres");
+  read_radius_bounds(map, sizes);
+  if (sizes.mean_radius < sizes.min_radius || sizes.mean_radius > sizes.max_radius)
+    mean_value.expected("a radius between min_radius (" + format_number(sizes.min_radius) +
+                        " m) and max_radius (" + format_number(sizes.max_radius) + " m)");
+}
+
+void read_discrete(const Mapping& map, SizeDistributionConfig& sizes) {
+  sizes.radii = number_list(map.get("radii"), "a non-empty sequence of radii in metres",
+                            "a positive number in metres", is_positive);
+  const Value fractions_value = map.get("mass_fractions");
+  sizes.mass_fractions =
+      number_list(fractions_value, "a sequence of mass fractions, one per radius",
+                  "a mass fraction in [0, 1]", [](double f) { return f >= 0 && f <= 1; });
+  if (sizes.mass_fractions.size() != sizes.radii.size())
+    fractions_value.expected("a sequence of " + std::to_string(sizes.radii.size()) +
+                             " mass fractions, one per radius");
+  double sum = 0;
+  for (double fraction : sizes.mass_fractions)
+    sum += fraction;
+  constexpr double fraction_sum_tolerance = 1e-6;
+  if (std::fabs(sum - 1) > fraction_sum_tolerance)
+    fractions_value.expected("mass fractions summing to 1 (within 1e-6)",
+                             "they sum to " + format_number(sum));
+}
+
+SizeDistributionConfig read_sizes(const Value& value) {
+  const KeyList distributions{"monodisperse", "uniform", "gaussian", "discrete"};
+  const Mapping all_keys(value, {"distribution", "radius", "min_radius", "max_radius",
+                                 "mean_radius", "std_radius", "radii", "mass_fractions"});
+  SizeDistributionConfig sizes;
+  std::string distribution = "monodisperse";
+  if (auto value_found = all_keys.find("distribution"))
+    distribution = one_of_words(*value_found, distributions);
+  sizes.kind = size_kind(distribution);
+  const Mapping map(value, size_keys(sizes.kind), "(for distribution " + distribution + ")");
+  switch (sizes.kind) {
+  case SizeKind::Monodisperse:
+    sizes.radius = positive(map.get("radius"), "metres");
+    break;
+  case SizeKind::Uniform:
+    read_radius_bounds(map, sizes);
+    break;
+  case SizeKind::Gaussian:
+    read_gaussian(map, sizes);
+    break;
+  case SizeKind::Discrete:
+    read_discrete(map, sizes);
+    break;
+  }
+  return sizes;
+}
+
+double smallest_radius(const SizeDistributionConfig& sizes) {
+  switch (sizes.kind) {
+  case SizeKind::Monodisperse:
+    return sizes.radius;
+  case SizeKind::Discrete:
+    return *std::min_element(sizes.radii.begin(), sizes.radii.end());
+  case SizeKind::Uniform:
+  case SizeKind::Gaussian:
+    break;
+  }
+  return sizes.min_radius;
+}
+
+// The densest packing of equal spheres; no generator can fill a region beyond it.
+constexpr double densest_sphere_packing = 0.7405;
+
+void read_amount(const Mapping& map, ParticleSourceConfig& source) {
+  if (exactly_one_key(map, {"count", "volume_fraction"}) == "count") {
+    source.count = whole_number(map.get("count"), 1);
+    return;
+  }
+  source.volume_fraction =
+      number_where(map.get("volume_fraction"), "a solid volume fraction in (0, 0.74]",
+                   [](double f) { return f > 0 && f <= densest_sphere_packing; });
+}
+
+// Insertion over time stops once `count` particles are in, so it needs a count.
+void read_insertion_timing(const Mapping& map, ParticleSourceConfig& source) {
+  if (auto value_found = map.find("rate")) {
+    source.rate = non_negative(*value_found, "particles per second");
+    if (source.rate > 0 && source.count == 0)
+      value_found->expected("0 for a source with a volume_fraction",
+                            "insertion over time needs a count");
+  }
+  if (auto value_found = map.find("start"))
+    source.start = non_negative(*value_found, "seconds");
+  if (auto value_found = map.find("interval"))
+    source.interval = positive(*value_found, "seconds");
+}
+
+ParticleSourceConfig read_source(const Value& value, const SceneConfig& scene, UniqueNames& names) {
+  const Mapping map(value, {"name", "material", "size", "region", "count", "volume_fraction",
+                            "random_orientation", "velocity", "seed", "rate", "start", "interval"});
+  ParticleSourceConfig source;
+  source.name = unique_name(map.get("name"), names);
+  source.material = material_named(map.get("material"), scene.materials).name;
+  source.sizes = read_sizes(map.get("size"));
+  const Value region_value = map.get("region");
+  source.region = read_region(region_value);
+  check_region_in_domain(region_value, source.region, scene);
+  read_amount(map, source);
+  if (auto value_found = map.find("random_orientation"))
+    source.random_orientation = boolean(*value_found);
+  if (auto value_found = map.find("velocity"))
+    source.velocity = vector3(*value_found, "in m/s");
+  if (auto value_found = map.find("seed"))
+    source.seed = static_cast<std::uint64_t>(whole_number(*value_found, 0));
+  read_insertion_timing(map, source);
+  return source;
+}
+
+// ---- walls ------------------------------------------------------------------------------------
+
+const KeyList box_faces{"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
+
+void read_plane(const Value& value, WallConfig& wall) {
+  const Mapping map(value, {"point", "normal"});
+  wall.point = vector3(map.get("point"), "in metres");
+  wall.normal = unit_direction(map.get("normal"));
+}
+
+void read_open_faces(const Value& list, WallConfig& wall) {
+  UniqueNames faces("open_faces");
+  for_each_item(list, "a sequence of face names (" + join(box_faces) + ")", true,
+                [&](const Value& item) {
+                  wall.open_faces.push_back(one_of_words(item, box_faces));
+                  faces.add(item, wall.open_faces.back());
+                });
+}
+
+void read_wall_box(const Value& value, WallConfig& wall) {
+  const Mapping map(value, {"min", "max", "open_faces"});
+  read_box_corners(map, wall.min, wall.max);
+  if (auto value_found = map.find("open_faces"))
+    read_open_faces(*value_found, wall);
+}
+
+void read_wall_cylinder(const Value& value, WallConfig& wall) {
+  const Mapping map(value, {"base_center", "axis", "radius", "length"});
+  wall.base_center = vector3(map.get("base_center"), "in metres");
+  if (auto value_found = map.find("axis"))
+    wall.axis_direction = unit_direction(*value_found);
+  wall.radius = positive(map.get("radius"), "metres");
+  wall.length = positive(map.get("length"), "metres");
+}
+
+std::string existing_mesh_file(const Value& value) {
+  const std::string expectation =
+      "the path of an existing STL file (relative to the scene file's folder)";
+  const fs::path written(text(value, expectation));
+  const fs::path relative_to_scene =
+      written.is_absolute() ? written : value.source().base_dir / written;
+  const fs::path resolved = fs::absolute(relative_to_scene).lexically_normal();
+  std::error_code error;
+  if (!fs::is_regular_file(resolved, error))
+    value.expected(expectation, "no file at " + resolved.string());
+  return resolved.string();
+}
+
+void read_mesh(const Value& value, WallConfig& wall) {
+  const Mapping map(value, {"file", "scale", "translate"});
+  wall.file = existing_mesh_file(map.get("file"));
+  if (auto value_found = map.find("scale"))
+    wall.scale = number_where(*value_found, "a positive scale factor", is_positive);
+  if (auto value_found = map.find("translate"))
+    wall.translate = vector3(*value_found, "in metres");
+}
+
+MotionConfig read_motion(const Value& value) {
+  const Mapping map(value, {"velocity", "axis_point", "axis", "rpm", "start"});
+  MotionConfig motion;
+  if (auto value_found = map.find("velocity"))
+    motion.velocity = vector3(*value_found, "in m/s");
+  if (auto value_found = map.find("axis_point"))
+    motion.axis_point = vector3(*value_found, "in metres");
+  if (auto value_found = map.find("axis"))
+    motion.axis_direction = unit_direction(*value_found);
+  if (auto value_found = map.find("rpm"))
+    motion.rpm = finite_number(*value_found, "a number in revolutions per minute");
+  if (auto value_found = map.find("start"))
+    motion.start = non_negative(*value_found, "seconds");
+  return motion;
+}
+
+void read_activity(const Mapping& map, WallConfig& wall) {
+  if (auto value_found = map.find("active_from"))
+    wall.active_from = non_negative(*value_found, "seconds");
+  if (auto value_found = map.find("active_until")) {
+    const double from = wall.active_from;
+    wall.active_until =
+        number_where(*value_found, "a time after active_from (" + format_number(from) + " s)",
+                     [from](double until) { return until > from; });
+  }
+}
+
+WallConfig read_wall(const Value& value, const SceneConfig& scene, UniqueNames& names) {
+  const KeyList shapes{"plane", "box", "cylinder", "mesh"};
+  const Mapping map(value, {"name", "material", "plane", "box", "cylinder", "mesh", "motion",
+                            "active_from", "active_until"});
+  WallConfig wall;
+  wall.name = unique_name(map.get("name"), names);
+  wall.material = material_named(map.get("material"), scene.materials).name;
+  const std::string shape = exactly_one_key(map, shapes);
+  if (shape == "plane") {
+    wall.kind = WallConfig::Kind::Plane;
+    read_plane(map.get(shape), wall);
+  } else if (shape == "box") {
+    wall.kind = WallConfig::Kind::Box;
+    read_wall_box(map.get(shape), wall);
+  } else if (shape == "cylinder") {
+    wall.kind = WallConfig::Kind::Cylinder;
+    read_wall_cylinder(map.get(shape), wall);
+  } else {
+    wall.kind = WallConfig::Kind::Mesh;
+    read_mesh(map.get(shape), wall);
+  }
+  if (auto value_found = map.find("motion"))
+    wall.motion = read_motion(*value_found);
+  read_activity(map, wall);
+  return wall;
+}
+
+// ---- outlets, output, domain, scene -----------------------------------------------------------
+
+OutletConfig read_outlet(const Value& value, UniqueNames& names) {
+  const Mapping map(value, {"name", "box"});
+  OutletConfig outlet;
+  outlet.name = unique_name(map.get("name"), names);
+  read_box_corners(Mapping(map.get("box"), {"min", "max"}), outlet.min, outlet.max);
+  return outlet;
+}
+
+OutputConfig read_output(const Value& value) {
+  const Mapping map(value, {"directory", "frame_interval", "series_interval", "checkpoint_interval",
+                            "final_checkpoint"});
+  OutputConfig output;
+  if (auto value_found = map.find("directory"))
+    output.directory = text(*value_found, "a folder path");
+  if (auto value_found = map.find("frame_interval"))
+    output.frame_interval = non_negative(*value_found, "seconds");
+  if (auto value_found = map.find("series_interval"))
+    output.series_interval = non_negative(*value_found, "seconds");
+  if (auto value_found = map.find("checkpoint_interval"))
+    output.checkpoint_interval = non_negative(*value_found, "seconds");
+  if (auto value_found = map.find("final_checkpoint"))
+    output.final_checkpoint = boolean(*value_found);
+  return output;
+}
+
+void read_domain(const Value& value, SceneConfig& scene) {
+  read_box_corners(Mapping(value, {"min", "max"}), scene.domain_min, scene.domain_max);
+  scene.has_domain = true;
+}
+
+void read_bodies(const Mapping& map, SceneConfig& scene) {
+  UniqueNames source_names("particles");
+  for_each_item(
+      map.get("particles"), "a non-empty sequence of particle sources", false,
+      [&](const Value& item) { scene.sources.push_back(read_source(item, scene, source_names)); });
+  UniqueNames wall_names("walls");
+  if (auto value_found = map.find("walls"))
+    for_each_item(*value_found, "a sequence of walls", true, [&](const Value& item) {
+      scene.walls.push_back(read_wall(item, scene, wall_names));
+    });
+  UniqueNames outlet_names("outlets");
+  if (auto value_found = map.find("outlets"))
+    for_each_item(*value_found, "a sequence of outlets", true, [&](const Value& item) {
+      scene.outlets.push_back(read_outlet(item, outlet_names));
+    });
+}
+
+// Default Verlet skin: a tenth of the smallest particle radius of the scene.
+double default_skin(const SceneConfig& scene) {
+  double smallest = smallest_radius(scene.sources.front().sizes);
+  for (const auto& source : scene.sources)
+    smallest = std::min(smallest, smallest_radius(source.sizes));
+  return 0.1 * smallest;
+}
+
+const KeyList scene_keys{"time_step",    "duration",  "gravity", "skin",    "domain", "materials",
+                         "interactions", "particles", "walls",   "outlets", "output"};
+
+SceneConfig read_scene(const Value& root) {
+  const Mapping map(root, scene_keys);
+  SceneConfig scene;
+  scene.source_file = root.source().display_name;
+  scene.time_step = positive(map.get("time_step"), "seconds");
+  scene.duration = positive(map.get("duration"), "seconds");
+  if (auto value_found = map.find("gravity"))
+    scene.gravity = vector3(*value_found, "in m/s^2");
+  if (auto value_found = map.find("domain"))
+    read_domain(*value_found, scene);
+  scene.materials = read_materials(map.get("materials"));
+  if (auto value_found = map.find("interactions"))
+    scene.interactions = read_interactions(*value_found, scene.materials);
+  read_bodies(map, scene);
+  if (auto value_found = map.find("output"))
+    scene.output = read_output(*value_found);
+  const auto skin_value = map.find("skin");
+  scene.skin = skin_value ? positive(*skin_value, "metres") : default_skin(scene);
+  return scene;
+}
+
+YAML::Node parse_single_document(const std::string& yaml_text, const SceneSource& source) {
+  std::vector<YAML::Node> documents;
+  try {
+    documents = YAML::LoadAll(yaml_text);
+  } catch (const YAML::Exception& error) {
+    throw_at(source, error.mark, "", "YAML syntax error: " + error.msg);
+  }
+  if (documents.empty())
+    throw_at(source, YAML::Mark(), "",
+             "expected a mapping with keys " + join(scene_keys) + ", got an empty file");
+  if (documents.size() > 1)
+    throw_at(source, documents[1].Mark(), "",
+             "expected a single YAML document, got " + std::to_string(documents.size()));
+  return documents.front();
+}
+
+std::string read_scene_file(const std::string& path) {
+  const std::string prefix = path + ": cannot read the scene file (";
+  std::error_code error;
+  if (!fs::exists(path, error))
+    throw SceneError(prefix + "no such file)");
+  if (fs::is_directory(path, error))
+    throw SceneError(prefix + "it is a folder)");
+  std::ifstream file(path, std::ios::binary);
+  if (!file)
+    throw SceneError(prefix + std::strerror(errno) + ")");
+  std::ostringstream contents;
+  contents << file.rdbuf();
+  if (file.bad())
+    throw SceneError(prefix + "read failed)");
+  return contents.str();
+}
+
+} // namespace
+
+SceneConfig load_scene_from_string(const std::string& yaml_text, const std::string& display_name,
+                                   const std::string& base_dir) {
+  const SceneSource source{display_name, fs::path(base_dir.empty() ? "." : base_dir)};
+  const YAML::Node root = parse_single_document(yaml_text, source);
+  try {
+    return read_scene(Value(root, "", root.Mark(), source));
+  } catch (const YAML::Exception& error) { // not expected: every access above is checked
+    throw_at(source, error.mark.is_null() ? YAML::Mark() : error.mark, "", error.msg);
+  }
+}
+
+SceneConfig load_scene(const std::string& path) {
+  const std::string yaml_text = read_scene_file(path);
+  return load_scene_from_string(yaml_text, path, fs::path(path).parent_path().string());
+}
+
+} // namespace kdem

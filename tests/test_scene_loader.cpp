@@ -1,0 +1,850 @@
+// Scene-file loading: a full scene lands in the right fields; every kind of bad input is refused
+// with a message naming the file, line, key path and what was expected.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "src/scene_loader.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using kdem::SceneConfig;
+using kdem::SceneError;
+
+// A folder of its own for files a test writes; removed afterwards.
+class ScratchFolder {
+public:
+  ScratchFolder() {
+    const auto* test = testing::UnitTest::GetInstance()->current_test_info();
+    path_ = fs::path(testing::TempDir()) /
+            (std::string("kdem_scene_") + test->test_suite_name() + "_" + test->name());
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~ScratchFolder() { fs::remove_all(path_); }
+
+  const fs::path& path() const { return path_; }
+
+  fs::path write(const std::string& name, const std::string& contents) const {
+    const fs::path file = path_ / name;
+    fs::create_directories(file.parent_path());
+    std::ofstream(file) << contents;
+    return file;
+  }
+
+private:
+  fs::path path_;
+};
+
+SceneConfig load_text(const std::string& yaml, const std::string& base_dir = ".") {
+  return kdem::load_scene_from_string(yaml, "scene.yaml", base_dir);
+}
+
+// Succeeds when loading `yaml` throws a SceneError whose message starts with
+// "scene.yaml:LINE:", names `key_path` and contains `expectation`.
+testing::AssertionResult fails_with(const std::string& yaml, int line, const std::string& key_path,
+                                    const std::string& expectation,
+                                    const std::string& base_dir = ".") {
+  std::string message;
+  try {
+    load_text(yaml, base_dir);
+    return testing::AssertionFailure() << "the scene was accepted";
+  } catch (const SceneError& error) {
+    message = error.what();
+  }
+  const std::string position = "scene.yaml:" + std::to_string(line) + ":";
+  if (message.rfind(position, 0) != 0)
+    return testing::AssertionFailure() << "no \"" << position << "\" at the start of: " << message;
+  if (message.find(" " + key_path + ": ") == std::string::npos)
+    return testing::AssertionFailure() << "no key path \"" << key_path << "\" in: " << message;
+  if (message.find(expectation) == std::string::npos)
+    return testing::AssertionFailure() << "no \"" << expectation << "\" in: " << message;
+  return testing::AssertionSuccess();
+}
+
+// A small valid scene; tests change one line or append lines (numbered from 14).
+const std::vector<std::string> minimal_lines{
+    "time_step: 1.0e-5",                                         // 1
+    "duration: 0.5",                                             // 2
+    "materials:",                                                // 3
+    "  - name: glass",                                           // 4
+    "    density: 2500",                                         // 5
+    "    youngs_modulus: 1.0e7",                                 // 6
+    "    poisson_ratio: 0.25",                                   // 7
+    "particles:",                                                // 8
+    "  - name: beads",                                           // 9
+    "    material: glass",                                       // 10
+    "    size: {radius: 0.002}",                                 // 11
+    "    region: {box: {min: [0, 0, 0], max: [0.1, 0.1, 0.1]}}", // 12
+    "    count: 100",                                            // 13
+};
+
+std::string join_lines(const std::vector<std::string>& lines) {
+  std::string text;
+  for (const auto& line : lines)
+    text += line + "\n";
+  return text;
+}
+
+std::string minimal_scene() {
+  return join_lines(minimal_lines);
+}
+
+// The minimal scene with line `line_number` (1-based) replaced by `replacement`.
+std::string minimal_scene_with(int line_number, const std::string& replacement) {
+  std::vector<std::string> lines = minimal_lines;
+  lines.at(line_number - 1) = replacement;
+  return join_lines(lines);
+}
+
+// The minimal scene followed by `extra` (its first line is line 14).
+std::string minimal_scene_plus(const std::string& extra) {
+  return minimal_scene() + extra;
+}
+
+const std::string full_scene = R"(# hopper discharge
+time_step: 2.0e-6
+duration: 1.5
+gravity: [0, -9.8, 0]
+skin: 0.0004
+domain: {min: [-1, -1, -1], max: [1, 1, 2]}
+materials:
+  - name: glass
+    density: 2500
+    youngs_modulus: 5.0e7
+    poisson_ratio: 0.22
+    restitution: 0.9
+    friction: 0.3
+    rolling_friction: 0.01
+  - name: steel
+    density: 7800
+    youngs_modulus: 2.0e8
+    poisson_ratio: 0.3
+interactions:
+  - materials: [glass, steel]
+    friction: 0.4
+  - materials: [steel, steel]
+    restitution: 0.6
+    friction: 0.2
+    rolling_friction: 0.02
+particles:
+  - name: fines
+    material: glass
+    size: {distribution: uniform, min_radius: 0.001, max_radius: 0.002}
+    region: {box: {min: [-0.1, -0.1, 0.5], max: [0.1, 0.1, 0.9]}}
+    count: 1e4
+    random_orientation: false
+    velocity: [0, 0, -1]
+    seed: 42
+    rate: 5000
+    start: 0.1
+    interval: 0.02
+  - name: mix
+    material: steel
+    size:
+      distribution: discrete
+      radii: [0.003, 0.005]
+      mass_fractions: [0.25, 0.75]
+    region: {cylinder: {base_center: [0, 0, 1], radius: 0.2, height: 0.3}}
+    volume_fraction: 0.3
+  - name: bell
+    material: glass
+    size: {distribution: gaussian, mean_radius: 0.004, std_radius: 0.0005,
+           min_radius: 0.003, max_radius: 0.005}
+    region: {box: {min: [0.5, 0.5, 0.5], max: [0.9, 0.9, 0.9]}}
+    count: 20
+walls:
+  - name: floor
+    material: steel
+    plane: {point: [0, 0, -0.5], normal: [0, 0, 2]}
+  - name: bin
+    material: steel
+    box: {min: [-1, -1, -1], max: [1, 1, 2], open_faces: [zmax, xmin]}
+  - name: drum
+    material: steel
+    cylinder: {base_center: [0, 0, 0], axis: [3, 0, 4], radius: 0.5, length: 0.25}
+    motion: {velocity: [0.1, 0, 0], axis_point: [0, 0, 0.1], axis: [0, 2, 0], rpm: 30, start: 0.2}
+  - name: funnel
+    material: glass
+    mesh: {file: meshes/funnel.stl, scale: 0.001, translate: [0, 0, 0.3]}
+    active_from: 0.1
+    active_until: 0.75
+outlets:
+  - name: exit
+    box: {min: [-0.05, -0.05, -1], max: [0.05, 0.05, -0.9]}
+output:
+  directory: results/hopper
+  frame_interval: 0.01
+  series_interval: 0.001
+  checkpoint_interval: 0.5
+  final_checkpoint: false
+)";
+
+void expect_vector(const kdem::Vec3d& actual, const kdem::Vec3d& expected) {
+  for (int axis = 0; axis < 3; ++axis)
+    EXPECT_NEAR(actual[axis], expected[axis], 1e-12) << "component " << axis;
+}
+
+// ---- a valid scene -----------------------------------------------------------------------------
+
+class FullScene : public testing::Test {
+protected:
+  void SetUp() override {
+    folder.write("meshes/funnel.stl", "solid funnel\nendsolid funnel\n");
+    scene = load_text(full_scene, folder.path().string());
+  }
+  ScratchFolder folder;
+  SceneConfig scene;
+};
+
+TEST_F(FullScene, TopLevelValues) {
+  EXPECT_EQ(scene.source_file, "scene.yaml");
+  EXPECT_DOUBLE_EQ(scene.time_step, 2.0e-6);
+  EXPECT_DOUBLE_EQ(scene.duration, 1.5);
+  expect_vector(scene.gravity, {0, -9.8, 0});
+  EXPECT_DOUBLE_EQ(scene.skin, 0.0004);
+  EXPECT_TRUE(scene.has_domain);
+  expect_vector(scene.domain_min, {-1, -1, -1});
+  expect_vector(scene.domain_max, {1, 1, 2});
+}
+
+TEST_F(FullScene, Materials) {
+  ASSERT_EQ(scene.materials.size(), 2u);
+  const auto& glass = scene.materials[0];
+  EXPECT_EQ(glass.name, "glass");
+  EXPECT_DOUBLE_EQ(glass.density, 2500);
+  EXPECT_DOUBLE_EQ(glass.youngs_modulus, 5.0e7);
+  EXPECT_DOUBLE_EQ(glass.poisson_ratio, 0.22);
+  EXPECT_DOUBLE_EQ(glass.restitution, 0.9);
+  EXPECT_DOUBLE_EQ(glass.friction, 0.3);
+  EXPECT_DOUBLE_EQ(glass.rolling_friction, 0.01);
+  const auto& steel = scene.materials[1];
+  EXPECT_EQ(steel.name, "steel");
+  EXPECT_DOUBLE_EQ(steel.restitution, 0.5);
+  EXPECT_DOUBLE_EQ(steel.friction, 0.5);
+  EXPECT_DOUBLE_EQ(steel.rolling_friction, 0);
+}
+
+TEST_F(FullScene, InteractionsFillUnsetValuesWithTheMaterialMean) {
+  ASSERT_EQ(scene.interactions.size(), 2u);
+  const auto& glass_steel = scene.interactions[0];
+  EXPECT_EQ(glass_steel.material_a, "glass");
+  EXPECT_EQ(glass_steel.material_b, "steel");
+  EXPECT_DOUBLE_EQ(glass_steel.friction, 0.4);
+  EXPECT_DOUBLE_EQ(glass_steel.restitution, 0.5 * (0.9 + 0.5));
+  EXPECT_DOUBLE_EQ(glass_steel.rolling_friction, 0.5 * (0.01 + 0));
+  const auto& steel_steel = scene.interactions[1];
+  EXPECT_EQ(steel_steel.material_a, "steel");
+  EXPECT_EQ(steel_steel.material_b, "steel");
+  EXPECT_DOUBLE_EQ(steel_steel.restitution, 0.6);
+  EXPECT_DOUBLE_EQ(steel_steel.friction, 0.2);
+  EXPECT_DOUBLE_EQ(steel_steel.rolling_friction, 0.02);
+}
+
+TEST_F(FullScene, UniformSourceInABox) {
+  ASSERT_EQ(scene.sources.size(), 3u);
+  const auto& fines = scene.sources[0];
+  EXPECT_EQ(fines.name, "fines");
+  EXPECT_EQ(fines.material, "glass");
+  EXPECT_EQ(fines.sizes.kind, kdem::SizeDistributionConfig::Kind::Uniform);
+  EXPECT_DOUBLE_EQ(fines.sizes.min_radius, 0.001);
+  EXPECT_DOUBLE_EQ(fines.sizes.max_radius, 0.002);
+  EXPECT_EQ(fines.region.kind, kdem::RegionConfig::Kind::Box);
+  expect_vector(fines.region.min, {-0.1, -0.1, 0.5});
+  expect_vector(fines.region.max, {0.1, 0.1, 0.9});
+  EXPECT_EQ(fines.count, 10000);
+  EXPECT_DOUBLE_EQ(fines.volume_fraction, 0);
+  EXPECT_FALSE(fines.random_orientation);
+  expect_vector(fines.velocity, {0, 0, -1});
+  EXPECT_EQ(fines.seed, 42u);
+  EXPECT_DOUBLE_EQ(fines.rate, 5000);
+  EXPECT_DOUBLE_EQ(fines.start, 0.1);
+  EXPECT_DOUBLE_EQ(fines.interval, 0.02);
+}
+
+TEST_F(FullScene, DiscreteSourceInACylinder) {
+  const auto& mix = scene.sources.at(1);
+  EXPECT_EQ(mix.sizes.kind, kdem::SizeDistributionConfig::Kind::Discrete);
+  EXPECT_EQ(mix.sizes.radii, (std::vector<double>{0.003, 0.005}));
+  EXPECT_EQ(mix.sizes.mass_fractions, (std::vector<double>{0.25, 0.75}));
+  EXPECT_EQ(mix.region.kind, kdem::RegionConfig::Kind::Cylinder);
+  expect_vector(mix.region.base_center, {0, 0, 1});
+  EXPECT_DOUBLE_EQ(mix.region.radius, 0.2);
+  EXPECT_DOUBLE_EQ(mix.region.height, 0.3);
+  EXPECT_EQ(mix.count, 0);
+  EXPECT_DOUBLE_EQ(mix.volume_fraction, 0.3);
+  EXPECT_TRUE(mix.random_orientation);
+  EXPECT_EQ(mix.seed, 1u);
+  EXPECT_DOUBLE_EQ(mix.rate, 0);
+  EXPECT_DOUBLE_EQ(mix.interval, 0.01);
+}
+
+TEST_F(FullScene, GaussianSource) {
+  const auto& bell = scene.sources.at(2).sizes;
+  EXPECT_EQ(bell.kind, kdem::SizeDistributionConfig::Kind::Gaussian);
+  EXPECT_DOUBLE_EQ(bell.mean_radius, 0.004);
+  EXPECT_DOUBLE_EQ(bell.std_radius, 0.0005);
+  EXPECT_DOUBLE_EQ(bell.min_radius, 0.003);
+  EXPECT_DOUBLE_EQ(bell.max_radius, 0.005);
+}
+
+TEST_F(FullScene, PlaneAndBoxWalls) {
+  ASSERT_EQ(scene.walls.size(), 4u);
+  const auto& floor = scene.walls[0];
+  EXPECT_EQ(floor.name, "floor");
+  EXPECT_EQ(floor.material, "steel");
+  EXPECT_EQ(floor.kind, kdem::WallConfig::Kind::Plane);
+  expect_vector(floor.point, {0, 0, -0.5});
+  expect_vector(floor.normal, {0, 0, 1});
+  EXPECT_FALSE(floor.motion.moves());
+  const auto& bin = scene.walls[1];
+  EXPECT_EQ(bin.kind, kdem::WallConfig::Kind::Box);
+  expect_vector(bin.min, {-1, -1, -1});
+  expect_vector(bin.max, {1, 1, 2});
+  EXPECT_EQ(bin.open_faces, (std::vector<std::string>{"zmax", "xmin"}));
+}
+
+TEST_F(FullScene, CylinderWallWithNormalisedAxesAndMotion) {
+  const auto& drum = scene.walls.at(2);
+  EXPECT_EQ(drum.kind, kdem::WallConfig::Kind::Cylinder);
+  expect_vector(drum.base_center, {0, 0, 0});
+  expect_vector(drum.axis_direction, {0.6, 0, 0.8});
+  EXPECT_DOUBLE_EQ(drum.radius, 0.5);
+  EXPECT_DOUBLE_EQ(drum.length, 0.25);
+  expect_vector(drum.motion.velocity, {0.1, 0, 0});
+  expect_vector(drum.motion.axis_point, {0, 0, 0.1});
+  expect_vector(drum.motion.axis_direction, {0, 1, 0});
+  EXPECT_DOUBLE_EQ(drum.motion.rpm, 30);
+  EXPECT_DOUBLE_EQ(drum.motion.start, 0.2);
+  EXPECT_DOUBLE_EQ(drum.active_from, 0);
+  EXPECT_GT(drum.active_until, 1e100);
+}
+
+TEST_F(FullScene, MeshWallResolvedAgainstTheSceneFolder) {
+  const auto& funnel = scene.walls.at(3);
+  EXPECT_EQ(funnel.kind, kdem::WallConfig::Kind::Mesh);
+  const fs::path expected =
+      fs::absolute(folder.path() / "meshes" / "funnel.stl").lexically_normal();
+  EXPECT_EQ(funnel.file, expected.string());
+  EXPECT_TRUE(fs::path(funnel.file).is_absolute());
+  EXPECT_DOUBLE_EQ(funnel.scale, 0.001);
+  expect_vector(funnel.translate, {0, 0, 0.3});
+  EXPECT_DOUBLE_EQ(funnel.active_from, 0.1);
+  EXPECT_DOUBLE_EQ(funnel.active_until, 0.75);
+}
+
+TEST_F(FullScene, OutletsAndOutput) {
+  ASSERT_EQ(scene.outlets.size(), 1u);
+  EXPECT_EQ(scene.outlets[0].name, "exit");
+  expect_vector(scene.outlets[0].min, {-0.05, -0.05, -1});
+  expect_vector(scene.outlets[0].max, {0.05, 0.05, -0.9});
+  EXPECT_EQ(scene.output.directory, "results/hopper");
+  EXPECT_DOUBLE_EQ(scene.output.frame_interval, 0.01);
+  EXPECT_DOUBLE_EQ(scene.output.series_interval, 0.001);
+  EXPECT_DOUBLE_EQ(scene.output.checkpoint_interval, 0.5);
+  EXPECT_FALSE(scene.output.final_checkpoint);
+}
+
+TEST(SceneDefaults, MinimalSceneGetsTheDocumentedDefaults) {
+  const SceneConfig scene = load_text(minimal_scene());
+  expect_vector(scene.gravity, {0, 0, -9.81});
+  EXPECT_FALSE(scene.has_domain);
+  EXPECT_TRUE(scene.interactions.empty());
+  EXPECT_TRUE(scene.walls.empty());
+  EXPECT_TRUE(scene.outlets.empty());
+  EXPECT_EQ(scene.output.directory, "out");
+  EXPECT_DOUBLE_EQ(scene.output.frame_interval, 0);
+  EXPECT_TRUE(scene.output.final_checkpoint);
+  EXPECT_EQ(scene.sources.at(0).sizes.kind, kdem::SizeDistributionConfig::Kind::Monodisperse);
+  EXPECT_DOUBLE_EQ(scene.sources.at(0).sizes.radius, 0.002);
+}
+
+TEST(SceneDefaults, SkinIsATenthOfTheSmallestRadius) {
+  const SceneConfig scene = load_text(minimal_scene_plus(R"(  - name: small
+    material: glass
+    size: {distribution: discrete, radii: [0.004, 0.0005], mass_fractions: [0.5, 0.5]}
+    region: {box: {min: [0, 0, 0], max: [1, 1, 1]}}
+    count: 3
+)"));
+  EXPECT_DOUBLE_EQ(scene.skin, 0.00005);
+}
+
+TEST(SceneFile, LoadsAFileAndResolvesMeshesAgainstItsFolder) {
+  ScratchFolder folder;
+  folder.write("cases/drop/wall.stl", "solid w\nendsolid w\n");
+  const fs::path scene_file = folder.write(
+      "cases/drop/drop.yaml", minimal_scene_plus("walls:\n  - name: w\n    material: glass\n"
+                                                 "    mesh: {file: wall.stl}\n"));
+  const SceneConfig scene = kdem::load_scene(scene_file.string());
+  EXPECT_EQ(scene.source_file, scene_file.string());
+  ASSERT_EQ(scene.walls.size(), 1u);
+  EXPECT_EQ(scene.walls[0].file,
+            fs::absolute(folder.path() / "cases/drop/wall.stl").lexically_normal().string());
+}
+
+// ---- the file itself ---------------------------------------------------------------------------
+
+std::string load_file_error(const std::string& path) {
+  try {
+    kdem::load_scene(path);
+  } catch (const SceneError& error) {
+    return error.what();
+  }
+  return "(the scene was accepted)";
+}
+
+TEST(SceneFileErrors, MissingFile) {
+  ScratchFolder folder;
+  const std::string path = (folder.path() / "absent.yaml").string();
+  EXPECT_EQ(load_file_error(path), path + ": cannot read the scene file (no such file)");
+}
+
+TEST(SceneFileErrors, FolderInsteadOfAFile) {
+  ScratchFolder folder;
+  const std::string path = folder.path().string();
+  EXPECT_EQ(load_file_error(path), path + ": cannot read the scene file (it is a folder)");
+}
+
+TEST(SceneFileErrors, ErrorsNameTheFileAsGiven) {
+  ScratchFolder folder;
+  const fs::path scene_file = folder.write("bad.yaml", "time_step: -1\n");
+  EXPECT_EQ(load_file_error(scene_file.string()),
+            scene_file.string() +
+                ":1:12: time_step: expected a positive number in seconds, got \"-1\"");
+}
+
+TEST(SceneSyntaxErrors, YamlSyntaxErrorHasItsPosition) {
+  const std::string yaml = "time_step: 1e-5\nduration: [1, 2\nmaterials: []\n";
+  std::string message;
+  try {
+    load_text(yaml);
+  } catch (const SceneError& error) {
+    message = error.what();
+    EXPECT_GE(error.line(), 2);
+  }
+  EXPECT_EQ(message.rfind("scene.yaml:", 0), 0u) << message;
+  EXPECT_NE(message.find("YAML syntax error: "), std::string::npos) << message;
+}
+
+TEST(SceneSyntaxErrors, BadIndentation) {
+  const std::string yaml = "time_step: 1e-5\n  duration: 1\n";
+  std::string message;
+  try {
+    load_text(yaml);
+  } catch (const SceneError& error) {
+    message = error.what();
+  }
+  EXPECT_NE(message.find("scene.yaml:2:"), std::string::npos) << message;
+  EXPECT_NE(message.find("YAML syntax error"), std::string::npos) << message;
+}
+
+TEST(SceneSyntaxErrors, EmptyFile) {
+  std::string message;
+  try {
+    load_text("# nothing here\n");
+  } catch (const SceneError& error) {
+    message = error.what();
+  }
+  EXPECT_EQ(message.rfind("scene.yaml:1:1: expected a mapping with keys time_step", 0), 0u)
+      << message;
+}
+
+TEST(SceneSyntaxErrors, TwoDocuments) {
+  std::string message;
+  try {
+    load_text(minimal_scene() + "---\nduration: 1\n");
+  } catch (const SceneError& error) {
+    message = error.what();
+  }
+  EXPECT_EQ(message.rfind("scene.yaml:15:", 0), 0u) << message;
+  EXPECT_NE(message.find("expected a single YAML document, got 2"), std::string::npos) << message;
+}
+
+TEST(SceneSyntaxErrors, TopLevelMustBeAMapping) {
+  std::string message;
+  try {
+    load_text("- 1\n- 2\n");
+  } catch (const SceneError& error) {
+    message = error.what();
+  }
+  EXPECT_EQ(message.rfind("scene.yaml:1:1: expected a mapping with keys time_step", 0), 0u)
+      << message;
+  EXPECT_NE(message.find("got [1, 2]"), std::string::npos) << message;
+}
+
+// ---- keys ---------------------------------------------------------------------------------------
+
+TEST(SceneKeyErrors, UnknownTopLevelKeyListsTheAllowedKeysAndSuggestsOne) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("durration: 1\n"), 14, "durration",
+                         "expected one of the keys time_step, duration, gravity, skin, domain, "
+                         "materials, interactions, particles, walls, outlets, output, got the key "
+                         "\"durration\" (did you mean \"duration\"?)"));
+}
+
+TEST(SceneKeyErrors, UnknownNestedKey) {
+  EXPECT_TRUE(fails_with(minimal_scene_with(6, "    young: 1.0e7"), 6, "materials[0].young",
+                         "expected one of the keys name, density, youngs_modulus, poisson_ratio, "
+                         "restitution, friction, rolling_friction, got the key \"young\""));
+}
+
+TEST(SceneKeyErrors, KeyOfAnotherSizeDistribution) {
+  EXPECT_TRUE(fails_with(minimal_scene_with(11, "    size: {radius: 0.002, min_radius: 0.001}"), 11,
+                         "particles[0].size.min_radius",
+                         "expected one of the keys distribution, radius (for distribution "
+                         "monodisperse), got the key \"min_radius\""));
+}
+
+TEST(SceneKeyErrors, DuplicateKey) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("time_step: 2.0e-5\n"), 14, "time_step",
+                         "expected each key once, got \"time_step\" again (first at line 1)"));
+}
+
+TEST(SceneKeyErrors, MissingTopLevelKey) {
+  EXPECT_TRUE(fails_with(minimal_scene_with(2, "skin: 0.001"), 1, "duration",
+                         "expected a positive number in seconds, got nothing (required key is "
+                         "missing)"));
+}
+
+TEST(SceneKeyErrors, MissingMaterialKey) {
+  EXPECT_TRUE(fails_with(minimal_scene_with(5, "    friction: 0.3"), 4, "materials[0].density",
+                         "expected a positive number in kg/m^3, got nothing (required key is "
+                         "missing)"));
+}
+
+TEST(SceneKeyErrors, MissingSourceSize) {
+  EXPECT_TRUE(fails_with(minimal_scene_with(11, "    seed: 3"), 9, "particles[0].size",
+                         "expected a mapping with keys distribution, radius"));
+}
+
+TEST(SceneKeyErrors, MissingMaterialsList) {
+  std::vector<std::string> lines(minimal_lines.begin(), minimal_lines.begin() + 2);
+  lines.insert(lines.end(), minimal_lines.begin() + 7, minimal_lines.end());
+  EXPECT_TRUE(fails_with(join_lines(lines), 1, "materials",
+                         "expected a non-empty sequence of materials, got nothing"));
+}
+
+TEST(SceneKeyErrors, EmptyValue) {
+  EXPECT_TRUE(fails_with(minimal_scene_with(5, "    density:"), 5, "materials[0].density",
+                         "expected a positive number in kg/m^3, got an empty value"));
+}
+
+TEST(SceneKeyErrors, WallWithoutAShape) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("walls:\n  - name: w\n    material: glass\n"), 15,
+                         "walls[0]",
+                         "expected exactly one of the keys plane, box, cylinder, mesh, got none"));
+}
+
+TEST(SceneKeyErrors, WallWithTwoShapes) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("walls:\n  - name: w\n    material: glass\n"
+                                            "    plane: {point: [0, 0, 0], normal: [0, 0, 1]}\n"
+                                            "    box: {min: [0, 0, 0], max: [1, 1, 1]}\n"),
+                         18, "walls[0]",
+                         "expected exactly one of the keys plane, box, cylinder, mesh, got plane "
+                         "and box"));
+}
+
+TEST(SceneKeyErrors, RegionWithoutAShape) {
+  EXPECT_TRUE(fails_with(minimal_scene_with(12, "    region: {}"), 12, "particles[0].region",
+                         "expected exactly one of the keys box, cylinder, got none"));
+}
+
+TEST(SceneKeyErrors, SourceWithBothCountAndVolumeFraction) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("    volume_fraction: 0.3\n"), 14, "particles[0]",
+                         "expected exactly one of the keys count, volume_fraction, got count and "
+                         "volume_fraction"));
+}
+
+TEST(SceneKeyErrors, SourceWithNeitherCountNorVolumeFraction) {
+  EXPECT_TRUE(fails_with(minimal_scene_with(13, "    seed: 7"), 9, "particles[0]",
+                         "expected exactly one of the keys count, volume_fraction, got none"));
+}
+
+// ---- types -------------------------------------------------------------------------------------
+
+TEST(SceneTypeErrors, TextForANumber) {
+  EXPECT_TRUE(fails_with(minimal_scene_with(1, "time_step: fast"), 1, "time_step",
+                         "expected a positive number in seconds, got \"fast\""));
+}
+
+TEST(SceneTypeErrors, SequenceForANumber) {
+  EXPECT_TRUE(fails_with(minimal_scene_with(7, "    poisson_ratio: [0.3]"), 7,
+                         "materials[0].poisson_ratio",
+                         "expected a Poisson ratio in (-1, 0.5), got [0.3]"));
+}
+
+TEST(SceneTypeErrors, NumberForAVector) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("gravity: -9.81\n"), 14, "gravity",
+                         "expected a sequence of 3 numbers [x, y, z] in m/s^2, got \"-9.81\""));
+}
+
+TEST(SceneTypeErrors, VectorOfTwo) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("gravity: [0, -9.81]\n"), 14, "gravity",
+                         "expected a sequence of 3 numbers [x, y, z] in m/s^2, got [0, -9.81]"));
+}
+
+TEST(SceneTypeErrors, VectorItemNotANumber) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("gravity: [0, 0, down]\n"), 14, "gravity[2]",
+                         "expected a number in m/s^2, got \"down\""));
+}
+
+TEST(SceneTypeErrors, NotABoolean) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("    random_orientation: maybe\n"), 14,
+                         "particles[0].random_orientation",
+                         "expected true or false, got \"maybe\""));
+}
+
+TEST(SceneTypeErrors, MappingForAList) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("walls: {name: floor}\n"), 14, "walls",
+                         "expected a sequence of walls, got a mapping"));
+}
+
+TEST(SceneTypeErrors, ListForAMapping) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("output: [out]\n"), 14, "output",
+                         "expected a mapping with keys directory, frame_interval"));
+}
+
+TEST(SceneTypeErrors, FractionalCount) {
+  EXPECT_TRUE(fails_with(minimal_scene_with(13, "    count: 2.5"), 13, "particles[0].count",
+                         "expected a whole number >= 1, got \"2.5\""));
+}
+
+TEST(SceneTypeErrors, UnknownDistribution) {
+  EXPECT_TRUE(fails_with(minimal_scene_with(11, "    size: {distribution: lognormal, radius: 1}"),
+                         11, "particles[0].size.distribution",
+                         "expected one of monodisperse, uniform, gaussian, discrete, got "
+                         "\"lognormal\""));
+}
+
+TEST(SceneTypeErrors, UnknownBoxFace) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("walls:\n  - name: w\n    material: glass\n"
+                                            "    box: {min: [0, 0, 0], max: [1, 1, 1], "
+                                            "open_faces: [top]}\n"),
+                         17, "walls[0].box.open_faces[0]",
+                         "expected one of xmin, xmax, ymin, ymax, zmin, zmax, got \"top\""));
+}
+
+// ---- ranges ------------------------------------------------------------------------------------
+
+// Line `line` of the minimal scene replaced by `replacement`: refused at `reported_line`.
+struct RangeCase {
+  int line;
+  std::string replacement;
+  int reported_line;
+  std::string key_path;
+  std::string expectation;
+};
+
+void PrintTo(const RangeCase& bad, std::ostream* out) {
+  *out << bad.key_path;
+}
+
+class SceneRangeErrors : public testing::TestWithParam<RangeCase> {};
+
+TEST_P(SceneRangeErrors, ValueOutsideItsRange) {
+  const RangeCase& bad = GetParam();
+  EXPECT_TRUE(fails_with(minimal_scene_with(bad.line, bad.replacement), bad.reported_line,
+                         bad.key_path, bad.expectation));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Values, SceneRangeErrors,
+    testing::Values(
+        RangeCase{1, "time_step: 0", 1, "time_step",
+                  "expected a positive number in seconds, got \"0\""},
+        RangeCase{1, "time_step: .nan", 1, "time_step", "expected a positive number in seconds"},
+        RangeCase{2, "duration: -1", 2, "duration",
+                  "expected a positive number in seconds, got \"-1\""},
+        RangeCase{5, "    density: -2500", 5, "materials[0].density",
+                  "expected a positive number in kg/m^3, got \"-2500\""},
+        RangeCase{6, "    youngs_modulus: 0", 6, "materials[0].youngs_modulus",
+                  "expected a positive number in Pa, got \"0\""},
+        RangeCase{7, "    poisson_ratio: 0.5", 7, "materials[0].poisson_ratio",
+                  "expected a Poisson ratio in (-1, 0.5), got \"0.5\""},
+        RangeCase{7, "    poisson_ratio: -1", 7, "materials[0].poisson_ratio",
+                  "expected a Poisson ratio in (-1, 0.5), got \"-1\""},
+        RangeCase{7, "    poisson_ratio: 0.25\n    restitution: 0", 8, "materials[0].restitution",
+                  "expected a coefficient of restitution in (0, 1], got \"0\""},
+        RangeCase{7, "    poisson_ratio: 0.25\n    restitution: 1.2", 8, "materials[0].restitution",
+                  "expected a coefficient of restitution in (0, 1], got \"1.2\""},
+        RangeCase{7, "    poisson_ratio: 0.25\n    friction: -0.1", 8, "materials[0].friction",
+                  "expected a friction coefficient >= 0, got \"-0.1\""},
+        RangeCase{7, "    poisson_ratio: 0.25\n    rolling_friction: -0.1", 8,
+                  "materials[0].rolling_friction",
+                  "expected a friction coefficient >= 0, got \"-0.1\""},
+        RangeCase{11, "    size: {radius: -0.01}", 11, "particles[0].size.radius",
+                  "expected a positive number in metres, got \"-0.01\""},
+        RangeCase{11, "    size: {distribution: uniform, min_radius: 0.003, max_radius: 0.002}", 11,
+                  "particles[0].size.max_radius",
+                  "expected a radius >= min_radius (0.003 m), got \"0.002\""},
+        RangeCase{11,
+                  "    size: {distribution: gaussian, mean_radius: 0.01, std_radius: 0.001, "
+                  "min_radius: 0.001, max_radius: 0.002}",
+                  11, "particles[0].size.mean_radius",
+                  "expected a radius between min_radius (0.001 m) and max_radius (0.002 m), got "
+                  "\"0.01\""},
+        RangeCase{
+            11,
+            "    size: {distribution: discrete, radii: [0.001, 0.002], mass_fractions: [0.5, 0.4]}",
+            11, "particles[0].size.mass_fractions",
+            "expected mass fractions summing to 1 (within 1e-6), got [0.5, 0.4] (they sum "
+            "to 0.9)"},
+        RangeCase{11,
+                  "    size: {distribution: discrete, radii: [0.001, 0.002], mass_fractions: [1]}",
+                  11, "particles[0].size.mass_fractions",
+                  "expected a sequence of 2 mass fractions, one per radius, got [1]"},
+        RangeCase{
+            11, "    size: {distribution: discrete, radii: [0.001, 0], mass_fractions: [1, 0]}", 11,
+            "particles[0].size.radii[1]", "expected a positive number in metres, got \"0\""},
+        RangeCase{12, "    region: {box: {min: [0, 0, 0], max: [0.1, 0.1, -0.1]}}", 12,
+                  "particles[0].region.box.max",
+                  "expected a corner greater than min = [0, 0, 0] in x, y and z (in metres), got "
+                  "[0.1, 0.1, -0.1]"},
+        RangeCase{12, "    region: {cylinder: {base_center: [0, 0, 0], radius: 0.1, height: 0}}",
+                  12, "particles[0].region.cylinder.height",
+                  "expected a positive number in metres, got \"0\""},
+        RangeCase{13, "    count: 0", 13, "particles[0].count",
+                  "expected a whole number >= 1, got \"0\""},
+        RangeCase{13, "    volume_fraction: 0.8", 13, "particles[0].volume_fraction",
+                  "expected a solid volume fraction in (0, 0.74], got \"0.8\""},
+        RangeCase{13, "    count: 5\n    seed: -3", 14, "particles[0].seed",
+                  "expected a whole number >= 0, got \"-3\""}));
+
+TEST(SceneRangeErrors, InsertionOverTimeNeedsACount) {
+  EXPECT_TRUE(fails_with(minimal_scene_with(13, "    volume_fraction: 0.3\n    rate: 100"), 14,
+                         "particles[0].rate",
+                         "expected 0 for a source with a volume_fraction, got \"100\" (insertion "
+                         "over time needs a count)"));
+}
+
+TEST(SceneRangeErrors, SkinMustBePositive) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("skin: 0\n"), 14, "skin",
+                         "expected a positive number in metres, got \"0\""));
+}
+
+TEST(SceneRangeErrors, WallRadius) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("walls:\n  - name: drum\n    material: glass\n"
+                                            "    cylinder: {base_center: [0, 0, 0], radius: "
+                                            "-0.01, length: 1}\n"),
+                         17, "walls[0].cylinder.radius",
+                         "expected a positive number in metres, got \"-0.01\""));
+}
+
+TEST(SceneRangeErrors, ZeroLengthNormal) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("walls:\n  - name: floor\n    material: glass\n"
+                                            "    plane: {point: [0, 0, 0], normal: [0, 0, 0]}\n"),
+                         17, "walls[0].plane.normal",
+                         "expected a direction vector of non-zero length, got [0, 0, 0]"));
+}
+
+TEST(SceneRangeErrors, ActiveUntilBeforeActiveFrom) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("walls:\n  - name: gate\n    material: glass\n"
+                                            "    plane: {point: [0, 0, 0], normal: [0, 0, 1]}\n"
+                                            "    active_from: 0.2\n    active_until: 0.1\n"),
+                         19, "walls[0].active_until",
+                         "expected a time after active_from (0.2 s), got \"0.1\""));
+}
+
+TEST(SceneRangeErrors, DomainCornersInWrongOrder) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("domain:\n  min: [0, 0, 0]\n  max: [1, 0, 1]\n"), 16,
+                         "domain.max", "expected a corner greater than min = [0, 0, 0]"));
+}
+
+TEST(SceneRangeErrors, RegionOutsideTheDomain) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("domain: {min: [0, 0, 0], max: [0.05, 1, 1]}\n"), 12,
+                         "particles[0].region",
+                         "expected a region inside the domain [0, 0, 0] .. [0.05, 1, 1], got one "
+                         "reaching [0, 0, 0] .. [0.1, 0.1, 0.1]"));
+}
+
+// ---- references and names ----------------------------------------------------------------------
+
+TEST(SceneReferenceErrors, SourceWithUndefinedMaterial) {
+  EXPECT_TRUE(fails_with(minimal_scene_with(10, "    material: glas"), 10, "particles[0].material",
+                         "expected the name of a material defined under materials (glass), got "
+                         "\"glas\""));
+}
+
+TEST(SceneReferenceErrors, WallWithUndefinedMaterial) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("walls:\n  - name: floor\n    material: steel\n"
+                                            "    plane: {point: [0, 0, 0], normal: [0, 0, 1]}\n"),
+                         16, "walls[0].material",
+                         "expected the name of a material defined under materials (glass), got "
+                         "\"steel\""));
+}
+
+TEST(SceneReferenceErrors, InteractionWithUndefinedMaterial) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("interactions:\n  - materials: [glass, rubber]\n"), 15,
+                         "interactions[0].materials[1]",
+                         "expected the name of a material defined under materials (glass), got "
+                         "\"rubber\""));
+}
+
+TEST(SceneReferenceErrors, DuplicateMaterialName) {
+  EXPECT_TRUE(fails_with(minimal_scene_with(8, "  - {name: glass, density: 1, youngs_modulus: 1, "
+                                               "poisson_ratio: 0}\nparticles:"),
+                         8, "materials[1].name",
+                         "expected a name not used by another entry of materials, got \"glass\" "
+                         "(already the name of materials[0].name at line 4)"));
+}
+
+TEST(SceneReferenceErrors, DuplicateSourceName) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("  - name: beads\n    material: glass\n"), 14,
+                         "particles[1].name",
+                         "expected a name not used by another entry of particles, got \"beads\""));
+}
+
+TEST(SceneReferenceErrors, DuplicateWallName) {
+  EXPECT_TRUE(fails_with(
+      minimal_scene_plus(
+          "walls:\n"
+          "  - {name: w, material: glass, plane: {point: [0, 0, 0], normal: [0, 0, 1]}}\n"
+          "  - {name: w, material: glass, plane: {point: [0, 0, 0], normal: [0, 0, 1]}}\n"),
+      16, "walls[1].name", "expected a name not used by another entry of walls, got \"w\""));
+}
+
+TEST(SceneReferenceErrors, DuplicateOutletName) {
+  EXPECT_TRUE(fails_with(
+      minimal_scene_plus("outlets:\n"
+                         "  - {name: out, box: {min: [0, 0, 0], max: [1, 1, 1]}}\n"
+                         "  - {name: out, box: {min: [0, 0, 0], max: [1, 1, 1]}}\n"),
+      16, "outlets[1].name", "expected a name not used by another entry of outlets, got \"out\""));
+}
+
+TEST(SceneReferenceErrors, DuplicateInteractionPair) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("interactions:\n  - materials: [glass, glass]\n"
+                                            "  - materials: [glass, glass]\n    friction: 1\n"),
+                         16, "interactions[1].materials",
+                         "expected a name not used by another entry of interactions"));
+}
+
+TEST(SceneReferenceErrors, MissingMeshFile) {
+  ScratchFolder folder;
+  const std::string expected_place =
+      fs::absolute(folder.path() / "parts" / "funnel.stl").lexically_normal().string();
+  EXPECT_TRUE(fails_with(minimal_scene_plus("walls:\n  - name: funnel\n    material: glass\n"
+                                            "    mesh: {file: parts/funnel.stl}\n"),
+                         17, "walls[0].mesh.file",
+                         "expected the path of an existing STL file (relative to the scene file's "
+                         "folder), got \"parts/funnel.stl\" (no file at " +
+                             expected_place + ")",
+                         folder.path().string()));
+}
+
+TEST(SceneErrorFields, CarryLineColumnAndKeyPath) {
+  try {
+    load_text(minimal_scene_with(5, "    density: -1"));
+    FAIL() << "the scene was accepted";
+  } catch (const SceneError& error) {
+    EXPECT_EQ(error.line(), 5);
+    EXPECT_EQ(error.column(), 14);
+    EXPECT_EQ(error.key_path(), "materials[0].density");
+  }
+}
+
+} // namespace
