@@ -1,0 +1,118 @@
+# kdem: thin driver around scripts/deps.sh and the CMake presets.
+#
+#   make build         Debian packages + cached Kokkos (OpenMP) + configure/build preset "openmp"
+#   make test          build, then ctest on build/openmp
+#   make demo          build, run the hopper demo into out/demo and plot it
+#   make bench         also install the peer codes (liggghts), then perf/run_bench.py
+#   make serial        configure/build preset "serial" (build/serial)
+#   make cuda          CUDA Kokkos (sm_90) + preset "cuda" (build/cuda); compiles and links
+#                      everything, runs nothing (see test-cuda)
+#   make cuda-sm80     same for Ampere sm_80 (build/cuda-sm80)
+#   make test-cuda     ctest on build/cuda (needs a GPU)
+#   make format        clang-format -i on the C++ sources
+#   make clean         remove build/ and out/ (the Kokkos cache is kept)
+#
+# Variables:
+#   JOBS=N             parallel build jobs (default: number of cores)
+#   KOKKOS_ROOT=DIR    use your own Kokkos (3.4 or newer) instead of the cached build,
+#                      e.g. `make build KOKKOS_ROOT=/opt/kokkos`; for `make cuda` it must
+#                      be a CUDA-enabled Kokkos, whose bin/nvcc_wrapper becomes the compiler.
+#   KOKKOS_KERNELS_ROOT=DIR  Kokkos Kernels install, if not under KOKKOS_ROOT
+#   KDEM_CACHE=DIR     where scripts/deps.sh keeps its Kokkos builds (~/.cache/kdem)
+#   CMAKE_ARGS=...     extra arguments for the CMake configure step
+#
+# The configure step runs only when build/<preset> is not configured yet (or the
+# Kokkos install changed); afterwards `cmake --build` re-runs CMake by itself when
+# a CMakeLists.txt changes.
+
+SHELL := /bin/bash
+JOBS ?= $(shell nproc 2>/dev/null || echo 2)
+KOKKOS_ROOT ?=
+KOKKOS_KERNELS_ROOT ?=
+CMAKE_ARGS ?=
+DEPS := scripts/deps.sh
+MAKEFLAGS += --no-print-directory
+
+.PHONY: all deps deps-cuda deps-bench build test demo bench serial cuda cuda-sm80 \
+        test-cuda format clean help
+.DEFAULT_GOAL := build
+
+all: build
+
+help:
+	@sed -n '2,/^$$/p' Makefile | sed 's/^# \{0,1\}//'
+
+# --- dependencies -------------------------------------------------------------
+# With KOKKOS_ROOT set only the Debian packages are checked.
+ifeq ($(strip $(KOKKOS_ROOT)),)
+deps:
+	@$(DEPS) >/dev/null
+deps-cuda:
+	@$(DEPS) --cuda >/dev/null
+else
+deps:
+	@$(DEPS) --no-kokkos
+deps-cuda:
+	@$(DEPS) --no-kokkos
+endif
+
+deps-bench:
+	@$(DEPS) --bench --no-kokkos
+
+# --- configure + build --------------------------------------------------------
+# $(call configure_build,PRESET,DEPS-VARIANT)
+define configure_build
+	@set -e; \
+	if [ -n "$(KOKKOS_ROOT)" ]; then root="$(KOKKOS_ROOT)"; \
+	else root=$$($(DEPS) --print-root $(2)); fi; \
+	prefix="$$root"; [ -z "$(KOKKOS_KERNELS_ROOT)" ] || prefix="$$root;$(KOKKOS_KERNELS_ROOT)"; \
+	bdir=build/$(1); \
+	if [ ! -f $$bdir/CMakeCache.txt ] || [ "$$(cat $$bdir/.kokkos-root 2>/dev/null)" != "$$prefix" ]; then \
+	  fresh=""; [ ! -f $$bdir/CMakeCache.txt ] || fresh="--fresh"; \
+	  echo "-- configuring preset $(1) with Kokkos from $$root"; \
+	  KDEM_KOKKOS_ROOT="$$root" cmake --preset $(1) $$fresh \
+	    -DKokkos_ROOT="$$root" -DCMAKE_PREFIX_PATH="$$prefix" \
+	    $(if $(filter cuda%,$(1)),-DCMAKE_CXX_COMPILER="$$root/bin/nvcc_wrapper") \
+	    $(CMAKE_ARGS); \
+	  echo "$$prefix" > $$bdir/.kokkos-root; \
+	fi; \
+	KDEM_KOKKOS_ROOT="$$root" cmake --build $$bdir -j $(JOBS)
+endef
+
+build: deps
+	$(call configure_build,openmp,openmp)
+
+serial: deps
+	$(call configure_build,serial,openmp)
+
+cuda: deps-cuda
+	@$(DEPS) --find-nvcc >/dev/null || { echo "make cuda: nvcc not found" >&2; exit 1; }
+	$(call configure_build,cuda,cuda-sm90)
+
+cuda-sm80: deps-cuda
+	@$(DEPS) --find-nvcc >/dev/null || { echo "make cuda-sm80: nvcc not found" >&2; exit 1; }
+	$(call configure_build,cuda-sm80,cuda-sm80)
+
+# --- run ----------------------------------------------------------------------
+test: build
+	OMP_PROC_BIND=$${OMP_PROC_BIND:-false} ctest --test-dir build/openmp --output-on-failure
+
+test-cuda: cuda
+	ctest --test-dir build/cuda --output-on-failure
+
+demo: build
+	build/openmp/bin/kdem run cases/hopper/hopper_spheres.yaml --out out/demo
+	python3 cases/hopper/plot_discharge.py out/demo
+
+bench: deps-bench build
+	python3 perf/run_bench.py
+
+# --- housekeeping -------------------------------------------------------------
+FORMAT_DIRS := $(wildcard src kernels shapes tests perf)
+format:
+	@command -v clang-format >/dev/null || { echo "clang-format not found (apt-get install clang-format)" >&2; exit 1; }
+	@[ -z "$(FORMAT_DIRS)" ] || find $(FORMAT_DIRS) -type f \( -name '*.hpp' -o -name '*.cpp' \) -print0 \
+	  | xargs -0 -r clang-format -i
+
+clean:
+	rm -rf build out
