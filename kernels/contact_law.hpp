@@ -9,6 +9,7 @@
 // input value (see material_table.cpp); gamma_t = gamma_n.
 #include "../shapes/sphere.hpp"
 #include "../shapes/math.hpp"
+#include "types.hpp"
 
 namespace kdem {
 
@@ -19,6 +20,12 @@ struct PairCoefficients {
   double friction = 0;          // sliding friction coefficient
   double rolling_friction = 0;  // rolling friction coefficient (dimensionless, times R*)
 };
+
+using CoefficientTable = DeviceView<PairCoefficients**>;
+
+KOKKOS_INLINE_FUNCTION Vec3 point_velocity(Vec3 velocity, Vec3 angular_velocity, Vec3 centre, Vec3 point) {
+  return velocity + cross(angular_velocity, point - centre);
+}
 
 // State that a contact carries from step to step.
 struct ContactHistory {

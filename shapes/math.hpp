@@ -4,19 +4,21 @@
 
 namespace kdem::math {
 #if KOKKOS_VERSION >= 40000
-using Kokkos::abs;
+using Kokkos::fabs;
 using Kokkos::cbrt;
 using Kokkos::cos;
 using Kokkos::exp;
+using Kokkos::floor;
 using Kokkos::log;
 using Kokkos::pow;
 using Kokkos::sin;
 using Kokkos::sqrt;
 #else
-using Kokkos::Experimental::abs;
+using Kokkos::Experimental::fabs;
 using Kokkos::Experimental::cbrt;
 using Kokkos::Experimental::cos;
 using Kokkos::Experimental::exp;
+using Kokkos::Experimental::floor;
 using Kokkos::Experimental::log;
 using Kokkos::Experimental::pow;
 using Kokkos::Experimental::sin;

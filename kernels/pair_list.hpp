@@ -1,0 +1,172 @@
+#pragma once
+// Half candidate lists of sphere pairs within reach (r_i + r_j + skin), built by count -> scan ->
+// fill over the cell bins, with a reverse index so that each particle can gather the forces of
+// the pairs it belongs to in a fixed order, without atomics. Contact history moves from the old
+// list to the new one by stable particle ids.
+#include "binning.hpp"
+#include "contact_law.hpp"
+
+namespace kdem {
+
+struct PairList {
+  int pair_count = 0;
+  IndexView row_start;      // particle_count + 1: pairs (i, j > i) are owned by i
+  IndexView pair_i, pair_j;
+  IdView partner_id;        // stable id of j, the key for history transfer
+  IndexView reverse_start;  // particle_count + 1
+  IndexView reverse_pair;   // pairs in which the particle is j
+  Vec3View tangential_spring;  // history, see ContactHistory
+  Vec3View rolling_torque;
+  Vec3View force_on_i;     // N, per pair, this step
+  Vec3View torque_on_i;    // N m
+  Vec3View torque_on_j;
+  ScalarView overlap;      // m, 0 when not touching
+};
+
+template <class Visitor>
+void for_each_pair_list_field(Visitor&& visit) {
+  visit("row_start", &PairList::row_start);
+  visit("pair_i", &PairList::pair_i);
+  visit("pair_j", &PairList::pair_j);
+  visit("partner_id", &PairList::partner_id);
+  visit("reverse_start", &PairList::reverse_start);
+  visit("reverse_pair", &PairList::reverse_pair);
+  visit("tangential_spring", &PairList::tangential_spring);
+  visit("rolling_torque", &PairList::rolling_torque);
+  visit("force_on_i", &PairList::force_on_i);
+  visit("torque_on_i", &PairList::torque_on_i);
+  visit("torque_on_j", &PairList::torque_on_j);
+  visit("overlap", &PairList::overlap);
+}
+
+// Calls visit(i, j) for every other particle j within reach of i, in a fixed order.
+template <class Visit>
+KOKKOS_INLINE_FUNCTION void for_each_candidate(const CellBins& bins, const Vec3View& position,
+                                               const ScalarView& radius, double skin, int i,
+                                               Visit&& visit) {
+  const Vec3 xi = load3(position, i);
+  const CellGrid& g = bins.grid;
+  const int c[3] = {g.coordinate(xi.x, 0), g.coordinate(xi.y, 1), g.coordinate(xi.z, 2)};
+  for (int dz = -1; dz <= 1; ++dz) {
+    const int cz = c[2] + dz;
+    if (cz < 0 || cz >= g.dims[2]) continue;
+    for (int dy = -1; dy <= 1; ++dy) {
+      const int cy = c[1] + dy;
+      if (cy < 0 || cy >= g.dims[1]) continue;
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int cx = c[0] + dx;
+        if (cx < 0 || cx >= g.dims[0]) continue;
+        const int cell = g.flat(cx, cy, cz);
+        for (int j = bins.cell_start(cell); j < bins.cell_start(cell + 1); ++j) {
+          if (j == i) continue;
+          const double reach = radius(i) + radius(j) + skin;
+          if (norm2(load3(position, j) - xi) < reach * reach) visit(j);
+        }
+      }
+    }
+  }
+}
+
+inline PairList build_pair_list(const ParticleViews& p, const CellBins& bins, double skin) {
+  const int n = p.count;
+  PairList list;
+  IndexView half_count("half_count", n), reverse_count("reverse_count", n);
+  auto position = p.position;
+  auto radius = p.radius;
+  Kokkos::parallel_for(
+      "kdem::pair_count", RangePolicy(0, n), KOKKOS_LAMBDA(int i) {
+        int above = 0, below = 0;
+        for_each_candidate(bins, position, radius, skin, i, [&](int j) { (j > i ? above : below)++; });
+        half_count(i) = above;
+        reverse_count(i) = below;
+      });
+  int reverse_total = 0;
+  list.row_start = exclusive_scan_with_total(half_count, list.pair_count);
+  list.reverse_start = exclusive_scan_with_total(reverse_count, reverse_total);
+  const int pairs = list.pair_count;
+  list.pair_i = IndexView("pair_i", pairs);
+  list.pair_j = IndexView("pair_j", pairs);
+  list.partner_id = IdView("partner_id", pairs);
+  list.reverse_pair = IndexView("reverse_pair", reverse_total);
+  list.tangential_spring = Vec3View("tangential_spring", pairs);
+  list.rolling_torque = Vec3View("rolling_torque", pairs);
+  list.force_on_i = Vec3View("pair_force", pairs);
+  list.torque_on_i = Vec3View("pair_torque_i", pairs);
+  list.torque_on_j = Vec3View("pair_torque_j", pairs);
+  list.overlap = ScalarView("pair_overlap", pairs);
+  auto row_start = list.row_start;
+  auto pair_i = list.pair_i, pair_j = list.pair_j;
+  auto partner_id = list.partner_id;
+  auto id = p.id;
+  Kokkos::parallel_for(
+      "kdem::pair_fill", RangePolicy(0, n), KOKKOS_LAMBDA(int i) {
+        int slot = row_start(i);
+        for_each_candidate(bins, position, radius, skin, i, [&](int j) {
+          if (j < i) return;
+          pair_i(slot) = i;
+          pair_j(slot) = j;
+          partner_id(slot) = id(j);
+          ++slot;
+        });
+      });
+  auto reverse_start = list.reverse_start;
+  auto reverse_pair = list.reverse_pair;
+  Kokkos::parallel_for(
+      "kdem::pair_reverse_fill", RangePolicy(0, n), KOKKOS_LAMBDA(int i) {
+        int slot = reverse_start(i);
+        for_each_candidate(bins, position, radius, skin, i, [&](int j) {
+          if (j > i) return;
+          int k = row_start(j);
+          while (pair_j(k) != i) ++k;
+          reverse_pair(slot++) = k;
+        });
+      });
+  return list;
+}
+
+// row_of_id(stable id) = the row of that particle in the particle order of `old_list`, or -1.
+inline IndexView rows_by_id(const IdView& id, int count, std::int64_t id_bound) {
+  IndexView row_of_id("row_of_id", id_bound);
+  Kokkos::deep_copy(row_of_id, -1);
+  Kokkos::parallel_for(
+      "kdem::rows_by_id", RangePolicy(0, count), KOKKOS_LAMBDA(int i) { row_of_id(id(i)) = i; });
+  return row_of_id;
+}
+
+// Finds, in row `row` of a CSR list keyed by partner ids, the entry whose key is `key`; -1 if none.
+KOKKOS_INLINE_FUNCTION int find_in_row(const IndexView& row_start, const IdView& keys, int row,
+                                       std::int64_t key) {
+  if (row < 0) return -1;
+  for (int k = row_start(row); k < row_start(row + 1); ++k)
+    if (keys(k) == key) return k;
+  return -1;
+}
+
+// Copies the history of every pair that was in the old list; a pair whose order of i and j
+// flipped gets its vectors negated (they are defined for the body i).
+inline void transfer_pair_history(PairList& fresh, const PairList& old, const IndexView& old_row_of_id,
+                                  const IdView& id) {
+  auto pair_i = fresh.pair_i;
+  auto partner = fresh.partner_id;
+  auto spring = fresh.tangential_spring, rolling = fresh.rolling_torque;
+  auto old_start = old.row_start;
+  auto old_partner = old.partner_id;
+  auto old_spring = old.tangential_spring, old_rolling = old.rolling_torque;
+  Kokkos::parallel_for(
+      "kdem::pair_history_transfer", RangePolicy(0, fresh.pair_count), KOKKOS_LAMBDA(int k) {
+        const std::int64_t a = id(pair_i(k)), b = partner(k);
+        double sign = 1.0;
+        int found = find_in_row(old_start, old_partner, old_row_of_id(a), b);
+        if (found < 0) {
+          found = find_in_row(old_start, old_partner, old_row_of_id(b), a);
+          sign = -1.0;
+        }
+        if (found < 0) return;
+        for (int c = 0; c < 3; ++c) {
+          spring(k, c) = sign * old_spring(found, c);
+          rolling(k, c) = sign * old_rolling(found, c);
+        }
+      });
+}
+
+}  // namespace kdem

@@ -1,0 +1,300 @@
+#pragma once
+// Walls: analytic planes and cylinders and triangle meshes, each moving rigidly. Each wall is
+// stored once in its reference frame; a particle centre is taken into that frame, queried, and
+// the contact is taken back to the world frame.
+#include "../shapes/wall_geometry.hpp"
+#include "contact_law.hpp"
+#include "particles.hpp"
+#include "view_access.hpp"
+
+namespace kdem {
+
+enum WallElementKind : int { plane_element = 0, cylinder_element = 1, triangle_element = 2 };
+
+// Rigid motion of a wall: x(t) = pivot + velocity tau + R(omega tau) (X - pivot),
+// tau = max(0, t - start), and the wall takes part in contacts for active_from <= t < active_until.
+struct WallMotion {
+  Vec3 pivot;
+  Vec3 velocity;  // m/s
+  Vec3 omega;     // rad/s
+  double start = 0, active_from = 0, active_until = 1e300;
+  int material = 0;
+};
+
+struct WallPose {
+  Quat rotation;
+  Vec3 offset;  // current position of the pivot
+  Vec3 pivot;
+  Vec3 velocity, omega;
+  int active = 1;
+  int material = 0;
+
+  KOKKOS_INLINE_FUNCTION Vec3 to_reference(Vec3 x) const {
+    return pivot + rotate_inverse(rotation, x - offset);
+  }
+  KOKKOS_INLINE_FUNCTION Vec3 to_world(Vec3 x_ref) const { return offset + rotate(rotation, x_ref - pivot); }
+  KOKKOS_INLINE_FUNCTION Vec3 velocity_at(Vec3 x) const { return velocity + cross(omega, x - offset); }
+};
+
+KOKKOS_INLINE_FUNCTION WallPose wall_pose_at(const WallMotion& m, double time) {
+  WallPose pose;
+  const double tau = time > m.start ? time - m.start : 0.0;
+  pose.rotation = quat_from_rotation_vector(tau * m.omega);
+  pose.pivot = m.pivot;
+  pose.offset = m.pivot + tau * m.velocity;
+  pose.velocity = m.velocity;
+  pose.omega = m.omega;
+  pose.active = (time >= m.active_from && time < m.active_until) ? 1 : 0;
+  pose.material = m.material;
+  return pose;
+}
+
+// Geometry of all wall elements, flattened. Triangles carry mesh topology so that a sphere
+// touching an edge or a vertex gets one contact, from one owning triangle, and only when the
+// centre lies in that feature's Voronoi region (a face contact of a neighbour wins otherwise).
+struct WallElements {
+  int count = 0;
+  IndexView kind;
+  IndexView wall;
+  DeviceView<double* [9]> geometry;  // plane: origin, normal | cylinder: base, axis, radius,
+                                     // length | triangle: a, b, c (reference frame)
+  DeviceView<int* [6]> features;     // triangle: edge ids ab, bc, ca; vertex ids a, b, c
+  IndexView edge_owner;              // element that reports an edge contact
+  IndexView edge_sides;              // 1 or 2 adjacent triangles
+  DeviceView<double* [6]> edge_outward;  // in-plane outward direction from each adjacent triangle
+  IndexView vertex_owner;
+  IndexView vertex_edge_start;       // CSR over vertices
+  Vec3View vertex_edge_direction;    // unit vectors from the vertex along its edges
+};
+
+struct WallSet {
+  int wall_count = 0;
+  WallElements elements;
+  DeviceView<WallMotion*> motion;
+  DeviceView<WallPose*> pose;
+};
+
+inline void update_wall_poses(const WallSet& walls, double time) {
+  auto motion = walls.motion;
+  auto pose = walls.pose;
+  Kokkos::parallel_for(
+      "kdem::wall_poses", RangePolicy(0, walls.wall_count),
+      KOKKOS_LAMBDA(int w) { pose(w) = wall_pose_at(motion(w), time); });
+}
+
+KOKKOS_INLINE_FUNCTION Vec3 geometry_vec(const DeviceView<double* [9]>& g, int e, int first) {
+  return {g(e, first), g(e, first + 1), g(e, first + 2)};
+}
+
+KOKKOS_INLINE_FUNCTION SurfaceQuery cylinder_query(const WallElements& el, int e, Vec3 p, bool& in_range) {
+  const Vec3 base = geometry_vec(el.geometry, e, 0), axis = geometry_vec(el.geometry, e, 3);
+  const double radius = el.geometry(e, 6), length = el.geometry(e, 7);
+  const Vec3 local = p - base;
+  const double along = dot(local, axis);
+  const Vec3 radial = local - along * axis;
+  const double rho = norm(radial);
+  SurfaceQuery q;
+  const Vec3 outward = rho > 1e-300 ? (1.0 / rho) * radial : Vec3{1, 0, 0};
+  q.signed_distance = radius - rho;
+  q.point = base + along * axis + radius * outward;
+  q.free_normal = -outward;
+  in_range = along >= 0 && along <= length;
+  return q;
+}
+
+// True when a triangle's closest feature is one this triangle must report (see WallElements).
+KOKKOS_INLINE_FUNCTION bool triangle_reports(const WallElements& el, int e, const SurfaceQuery& q, Vec3 p) {
+  if (q.feature == 0) return true;
+  const Vec3 to_centre = p - q.point;
+  const double tolerance = 1e-9 * norm(to_centre);
+  if (q.feature <= 3) {
+    const int edge = el.features(e, q.feature - 1);
+    if (el.edge_owner(edge) != e) return false;
+    for (int side = 0; side < el.edge_sides(edge); ++side) {
+      const Vec3 outward{el.edge_outward(edge, 3 * side), el.edge_outward(edge, 3 * side + 1),
+                         el.edge_outward(edge, 3 * side + 2)};
+      if (dot(to_centre, outward) < -tolerance) return false;
+    }
+    return true;
+  }
+  const int vertex = el.features(e, 3 + q.feature - 4);
+  if (el.vertex_owner(vertex) != e) return false;
+  for (int k = el.vertex_edge_start(vertex); k < el.vertex_edge_start(vertex + 1); ++k)
+    if (dot(to_centre, load3(el.vertex_edge_direction, k)) > tolerance) return false;
+  return true;
+}
+
+// Closest point of element e to the reference-frame point p. `applies` is false when the
+// element does not take part (outside a cylinder's length, a feature another triangle reports).
+KOKKOS_INLINE_FUNCTION SurfaceQuery query_element(const WallElements& el, int e, Vec3 p, bool& applies) {
+  applies = true;
+  switch (el.kind(e)) {
+    case plane_element:
+      return plane_query(geometry_vec(el.geometry, e, 0), geometry_vec(el.geometry, e, 3), p);
+    case cylinder_element:
+      return cylinder_query(el, e, p, applies);
+    default: {
+      const SurfaceQuery q = triangle_query(geometry_vec(el.geometry, e, 0), geometry_vec(el.geometry, e, 3),
+                                            geometry_vec(el.geometry, e, 6), p);
+      applies = triangle_reports(el, e, q, p);
+      return q;
+    }
+  }
+}
+
+// Particle-wall candidates: elements within reach (radius + skin), per particle, with history.
+struct WallContactList {
+  int entry_count = 0;
+  IndexView row_start;   // particle_count + 1
+  IndexView element;
+  IdView element_key;    // element index as a key for history transfer
+  Vec3View tangential_spring;
+  Vec3View rolling_torque;
+  ScalarView overlap;
+};
+
+template <class Visitor>
+void for_each_wall_contact_field(Visitor&& visit) {
+  visit("row_start", &WallContactList::row_start);
+  visit("element", &WallContactList::element);
+  visit("element_key", &WallContactList::element_key);
+  visit("tangential_spring", &WallContactList::tangential_spring);
+  visit("rolling_torque", &WallContactList::rolling_torque);
+  visit("overlap", &WallContactList::overlap);
+}
+
+KOKKOS_INLINE_FUNCTION bool element_within_reach(const WallElements& el, int e, Vec3 p, double reach) {
+  bool in_range = true;
+  if (el.kind(e) == cylinder_element) {
+    const Vec3 base = geometry_vec(el.geometry, e, 0), axis = geometry_vec(el.geometry, e, 3);
+    const double along = dot(p - base, axis);
+    in_range = along >= -reach && along <= el.geometry(e, 7) + reach;
+    return in_range && cylinder_query(el, e, p, in_range).signed_distance < reach;
+  }
+  if (el.kind(e) == plane_element)
+    return plane_query(geometry_vec(el.geometry, e, 0), geometry_vec(el.geometry, e, 3), p).signed_distance < reach;
+  return triangle_query(geometry_vec(el.geometry, e, 0), geometry_vec(el.geometry, e, 3),
+                        geometry_vec(el.geometry, e, 6), p)
+             .signed_distance < reach;
+}
+
+inline WallContactList build_wall_contact_list(const ParticleViews& p, const WallSet& walls, double skin) {
+  const int n = p.count;
+  WallContactList list;
+  IndexView counts("wall_candidate_count", n);
+  auto el = walls.elements;
+  auto pose = walls.pose;
+  auto x = p.position;
+  auto radius = p.radius;
+  const int elements = el.count;
+  Kokkos::parallel_for(
+      "kdem::wall_candidate_count", RangePolicy(0, n), KOKKOS_LAMBDA(int i) {
+        int found = 0;
+        for (int e = 0; e < elements; ++e)
+          if (element_within_reach(el, e, pose(el.wall(e)).to_reference(load3(x, i)), radius(i) + skin)) ++found;
+        counts(i) = found;
+      });
+  list.row_start = exclusive_scan_with_total(counts, list.entry_count);
+  const int entries = list.entry_count;
+  list.element = IndexView("wall_candidate_element", entries);
+  list.element_key = IdView("wall_candidate_key", entries);
+  list.tangential_spring = Vec3View("wall_tangential_spring", entries);
+  list.rolling_torque = Vec3View("wall_rolling_torque", entries);
+  list.overlap = ScalarView("wall_overlap", entries);
+  auto row_start = list.row_start;
+  auto element = list.element;
+  auto key = list.element_key;
+  Kokkos::parallel_for(
+      "kdem::wall_candidate_fill", RangePolicy(0, n), KOKKOS_LAMBDA(int i) {
+        int slot = row_start(i);
+        for (int e = 0; e < elements; ++e) {
+          if (!element_within_reach(el, e, pose(el.wall(e)).to_reference(load3(x, i)), radius(i) + skin)) continue;
+          element(slot) = e;
+          key(slot) = e;
+          ++slot;
+        }
+      });
+  return list;
+}
+
+// Wall rows are per particle; history moves by (particle id, element).
+inline void transfer_wall_history(WallContactList& fresh, const WallContactList& old,
+                                  const IndexView& old_row_of_id, const IdView& id, int particle_count) {
+  auto row_start = fresh.row_start;
+  auto key = fresh.element_key;
+  auto spring = fresh.tangential_spring, rolling = fresh.rolling_torque;
+  auto old_start = old.row_start;
+  auto old_key = old.element_key;
+  auto old_spring = old.tangential_spring, old_rolling = old.rolling_torque;
+  Kokkos::parallel_for(
+      "kdem::wall_history_transfer", RangePolicy(0, particle_count), KOKKOS_LAMBDA(int i) {
+        const int old_row = old_row_of_id(id(i));
+        for (int k = row_start(i); k < row_start(i + 1); ++k) {
+          const int found = find_in_row(old_start, old_key, old_row, key(k));
+          if (found < 0) continue;
+          for (int c = 0; c < 3; ++c) {
+            spring(k, c) = old_spring(found, c);
+            rolling(k, c) = old_rolling(found, c);
+          }
+        }
+      });
+}
+
+// Sets each particle's force to gravity plus its wall contact forces, and its torque to the
+// wall torques. Runs before the pair gather, which adds to these.
+template <bool RollingResistance>
+void apply_gravity_and_wall_forces(const ParticleViews& p, const WallSet& walls, WallContactList& list,
+                                   const CoefficientTable& table, Vec3 gravity, double dt) {
+  auto x = p.position, v = p.velocity, w = p.angular_velocity;
+  auto radius = p.radius, mass = p.mass;
+  auto material = p.material;
+  auto force = p.force, torque = p.torque;
+  auto el = walls.elements;
+  auto pose = walls.pose;
+  auto row_start = list.row_start;
+  auto element = list.element;
+  auto spring = list.tangential_spring, rolling = list.rolling_torque;
+  auto overlap = list.overlap;
+  Kokkos::parallel_for(
+      "kdem::gravity_and_wall_forces", RangePolicy(0, p.count), KOKKOS_LAMBDA(int i) {
+        const Vec3 xi = load3(x, i), vi = load3(v, i), wi = load3(w, i);
+        Vec3 f = mass(i) * gravity, t{};
+        for (int k = row_start(i); k < row_start(i + 1); ++k) {
+          const int e = element(k);
+          const WallPose wall = pose(el.wall(e));
+          bool applies = wall.active != 0;
+          SurfaceQuery q;
+          if (applies) q = query_element(el, e, wall.to_reference(xi), applies);
+          ContactInput in;
+          if (applies) {
+            const ContactGeometry local = sphere_on_surface(wall.to_reference(xi), radius(i), q.signed_distance, q.free_normal);
+            in.geometry.touching = local.touching;
+            in.geometry.overlap = local.overlap;
+            in.geometry.normal = rotate(wall.rotation, local.normal);
+            in.geometry.point = wall.to_world(local.point);
+          }
+          if (!applies || !in.geometry.touching) {
+            store3(spring, k, Vec3{});
+            store3(rolling, k, Vec3{});
+            overlap(k) = 0;
+            continue;
+          }
+          const Vec3 point = in.geometry.point;
+          in.relative_velocity = point_velocity(vi, wi, xi, point) - wall.velocity_at(point);
+          in.relative_angular_velocity = wi - wall.omega;
+          in.effective_radius = radius(i);
+          in.effective_mass = mass(i);
+          ContactHistory history{load3(spring, k), load3(rolling, k)};
+          const ContactOutput out = hertz_mindlin<RollingResistance>(table(material(i), wall.material), in, dt, history);
+          store3(spring, k, history.tangential_spring);
+          store3(rolling, k, history.rolling_torque);
+          overlap(k) = in.geometry.overlap;
+          f += out.force_on_i;
+          t += cross(point - xi, out.force_on_i) + out.rolling_torque_on_i;
+        }
+        store3(force, i, f);
+        store3(torque, i, t);
+      });
+}
+
+}  // namespace kdem

@@ -1,0 +1,127 @@
+// HDF5 checkpoints: the whole engine state, in the current particle order and with the current
+// contact lists, so that a restart continues bit for bit.
+#include <sstream>
+#include <stdexcept>
+
+#include "engine_state.hpp"
+#include "hdf5_io.hpp"
+#include "host_copy.hpp"
+
+namespace kdem {
+namespace {
+
+constexpr std::int64_t checkpoint_format = 1;
+
+template <class View>
+void save_view(Hdf5Writer& out, const std::string& name, const View& view) {
+  const int rows = view.data() ? int(view.extent(0)) : 0;
+  const auto values = rows > 0 ? flatten_to_host(view, rows) : std::vector<typename View::non_const_value_type>{};
+  out.write(name, values, {hsize_t(rows), hsize_t(columns_of(view))});
+}
+
+template <class View>
+void load_view(const Hdf5Reader& in, const std::string& name, View& view) {
+  using Value = typename View::non_const_value_type;
+  std::vector<Value> values;
+  if constexpr (std::is_same_v<Value, double>)
+    values = in.read_doubles(name);
+  else if constexpr (std::is_same_v<Value, int>)
+    values = in.read_ints(name);
+  else
+    values = in.read_int64(name);
+  const auto shape = in.shape(name);
+  const int columns = shape.size() == 2 ? int(shape[1]) : 1;
+  view = view_from_host<View>(name, values, columns);
+}
+
+std::string rng_state(const std::mt19937_64& rng) {
+  std::ostringstream text;
+  text << rng;
+  return text.str();
+}
+
+}  // namespace
+
+void Engine::write_checkpoint(const std::string& path) const {
+  const State& s = *state_;
+  Hdf5Writer out(path);
+  out.write_scalar("format", checkpoint_format);
+  out.write_string("scene", s.scene.source_file);
+  out.write_scalar("time", s.time);
+  out.write_scalar("step", std::int64_t(s.step_count));
+  out.write_scalar("next_id", std::int64_t(s.next_id));
+  out.write_scalar("particle_count", std::int64_t(s.particles.count));
+  out.write_scalar("material_count", std::int64_t(s.scene.materials.size()));
+  out.write_scalar("wall_element_count", std::int64_t(s.walls.elements.count));
+  out.write_scalar("largest_radius", s.largest_radius);
+  out.write_scalar("smallest_radius", s.smallest_radius);
+  out.write_scalar("last_build_time", s.last_build_time);
+  out.write_scalar("list_builds", std::int64_t(s.list_builds));
+  out.write_scalar("needs_rebuild", std::int64_t(s.needs_rebuild));
+  out.write_scalar("discharged_mass", s.discharged_mass);
+  out.write_scalar("discharged_count", std::int64_t(s.discharged_count));
+  out.write_scalar("pair_count", std::int64_t(s.pairs.pair_count));
+  out.write_scalar("wall_entry_count", std::int64_t(s.wall_contacts.entry_count));
+  for (std::size_t k = 0; k < s.sources.size(); ++k) {
+    const std::string group = "sources/" + std::to_string(k) + "/";
+    out.write_string(group + "rng", rng_state(s.sources[k].rng));
+    out.write_scalar(group + "inserted", std::int64_t(s.sources[k].inserted));
+    out.write_scalar(group + "next_insertion", s.sources[k].next_insertion);
+    out.write_scalar(group + "owed", s.sources[k].owed);
+  }
+  for_each_particle_field([&](const char* name, auto member) {
+    save_view(out, std::string("particles/") + name, s.particles.*member);
+  });
+  for_each_pair_list_field([&](const char* name, auto member) {
+    save_view(out, std::string("pairs/") + name, s.pairs.*member);
+  });
+  for_each_wall_contact_field([&](const char* name, auto member) {
+    save_view(out, std::string("wall_contacts/") + name, s.wall_contacts.*member);
+  });
+  out.close();
+}
+
+void Engine::read_checkpoint(const std::string& path) {
+  State& s = *state_;
+  Hdf5Reader in(path);
+  auto require = [&](bool ok, const std::string& what) {
+    if (!ok) throw std::runtime_error(path + ": checkpoint does not match the scene: " + what);
+  };
+  require(in.read_scalar_int64("format") == checkpoint_format, "unknown checkpoint format");
+  require(in.read_scalar_int64("material_count") == std::int64_t(s.scene.materials.size()), "material count differs");
+  require(in.read_scalar_int64("wall_element_count") == s.walls.elements.count, "wall elements differ");
+  s.time = in.read_scalar_double("time");
+  s.step_count = in.read_scalar_int64("step");
+  s.next_id = in.read_scalar_int64("next_id");
+  s.largest_radius = in.read_scalar_double("largest_radius");
+  s.smallest_radius = in.read_scalar_double("smallest_radius");
+  s.last_build_time = in.read_scalar_double("last_build_time");
+  s.list_builds = in.read_scalar_int64("list_builds");
+  s.needs_rebuild = in.read_scalar_int64("needs_rebuild") != 0;
+  s.discharged_mass = in.read_scalar_double("discharged_mass");
+  s.discharged_count = in.read_scalar_int64("discharged_count");
+  for (std::size_t k = 0; k < s.sources.size(); ++k) {
+    const std::string group = "sources/" + std::to_string(k) + "/";
+    require(in.has(group + "rng"), "particle sources differ");
+    std::istringstream text(in.read_string(group + "rng"));
+    text >> s.sources[k].rng;
+    s.sources[k].inserted = in.read_scalar_int64(group + "inserted");
+    s.sources[k].next_insertion = in.read_scalar_double(group + "next_insertion");
+    s.sources[k].owed = in.read_scalar_double(group + "owed");
+  }
+  for_each_particle_field([&](const char* name, auto member) {
+    load_view(in, std::string("particles/") + name, s.particles.*member);
+  });
+  s.particles.count = int(in.read_scalar_int64("particle_count"));
+  for_each_pair_list_field([&](const char* name, auto member) {
+    load_view(in, std::string("pairs/") + name, s.pairs.*member);
+  });
+  s.pairs.pair_count = int(in.read_scalar_int64("pair_count"));
+  for_each_wall_contact_field([&](const char* name, auto member) {
+    load_view(in, std::string("wall_contacts/") + name, s.wall_contacts.*member);
+  });
+  s.wall_contacts.entry_count = int(in.read_scalar_int64("wall_entry_count"));
+  update_wall_poses(s.walls, s.time);
+}
+
+}  // namespace kdem

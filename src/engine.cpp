@@ -1,0 +1,542 @@
+#include "engine.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "../kernels/diagnostics.hpp"
+#include "../kernels/integrate.hpp"
+#include "../kernels/pair_forces.hpp"
+#include "engine_state.hpp"
+#include "generate.hpp"
+#include "restitution.hpp"
+#include "wall_builder.hpp"
+
+namespace kdem {
+namespace {
+
+Vec3 to_vec3(const Vec3d& a) { return {a[0], a[1], a[2]}; }
+
+double mean_or_override(double a, double b) { return 0.5 * (a + b); }
+
+PairCoefficients coefficients_for(const MaterialConfig& a, const MaterialConfig& b,
+                                  const std::vector<InteractionConfig>& interactions) {
+  PairCoefficients c;
+  c.effective_youngs = 1.0 / ((1 - a.poisson_ratio * a.poisson_ratio) / a.youngs_modulus +
+                              (1 - b.poisson_ratio * b.poisson_ratio) / b.youngs_modulus);
+  c.effective_shear = 1.0 / (2 * (2 - a.poisson_ratio) * (1 + a.poisson_ratio) / a.youngs_modulus +
+                             2 * (2 - b.poisson_ratio) * (1 + b.poisson_ratio) / b.youngs_modulus);
+  double restitution = mean_or_override(a.restitution, b.restitution);
+  c.friction = mean_or_override(a.friction, b.friction);
+  c.rolling_friction = mean_or_override(a.rolling_friction, b.rolling_friction);
+  for (const InteractionConfig& i : interactions) {
+    if ((i.material_a == a.name && i.material_b == b.name) || (i.material_a == b.name && i.material_b == a.name)) {
+      restitution = i.restitution;
+      c.friction = i.friction;
+      c.rolling_friction = i.rolling_friction;
+    }
+  }
+  c.damping = damping_for_restitution(restitution);
+  return c;
+}
+
+double largest_source_radius(const ParticleSourceConfig& s) {
+  const SizeDistributionConfig& d = s.sizes;
+  switch (d.kind) {
+    case SizeDistributionConfig::Kind::Monodisperse:
+      return d.radius;
+    case SizeDistributionConfig::Kind::Discrete:
+      return d.radii.empty() ? 0.0 : *std::max_element(d.radii.begin(), d.radii.end());
+    default:
+      return d.max_radius;
+  }
+}
+
+double smallest_source_radius(const ParticleSourceConfig& s) {
+  const SizeDistributionConfig& d = s.sizes;
+  switch (d.kind) {
+    case SizeDistributionConfig::Kind::Monodisperse:
+      return d.radius;
+    case SizeDistributionConfig::Kind::Discrete:
+      return d.radii.empty() ? 0.0 : *std::min_element(d.radii.begin(), d.radii.end());
+    default:
+      return d.min_radius;
+  }
+}
+
+template <class T, class Host>
+DeviceView<T*> upload(const std::string& label, const std::vector<Host>& values) {
+  DeviceView<T*> view(label, values.size());
+  auto mirror = Kokkos::create_mirror_view(view);
+  for (std::size_t k = 0; k < values.size(); ++k) mirror(k) = values[k];
+  Kokkos::deep_copy(view, mirror);
+  return view;
+}
+
+template <class View, class Host, std::size_t N>
+View upload_rows(const std::string& label, const std::vector<std::array<Host, N>>& rows) {
+  View view(label, rows.size());
+  auto mirror = Kokkos::create_mirror_view(view);
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    for (std::size_t c = 0; c < N; ++c) mirror(k, c) = rows[k][c];
+  Kokkos::deep_copy(view, mirror);
+  return view;
+}
+
+}  // namespace
+
+Engine::Engine(const SceneConfig& scene) : state_(std::make_unique<State>()) {
+  State& s = *state_;
+  s.scene = scene;
+  s.dt = scene.time_step;
+  s.gravity = to_vec3(scene.gravity);
+  s.setup_materials();
+  s.setup_domain();
+  s.setup_walls();
+  s.setup_outlets();
+  s.setup_sources();
+  s.compute_forces_at_current_state();
+}
+
+Engine::~Engine() = default;
+
+void Engine::State::setup_materials() {
+  const int n = int(scene.materials.size());
+  if (n == 0) throw std::runtime_error(scene.source_file + ": no materials defined");
+  coefficients = CoefficientTable("pair_coefficients", n, n);
+  auto mirror = Kokkos::create_mirror_view(coefficients);
+  rolling = false;
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) {
+      mirror(a, b) = coefficients_for(scene.materials[a], scene.materials[b], scene.interactions);
+      rolling = rolling || mirror(a, b).rolling_friction > 0;
+    }
+  Kokkos::deep_copy(coefficients, mirror);
+}
+
+int Engine::material_index(const std::string& name) const { return state_->material_index(name); }
+
+int Engine::State::material_index(const std::string& name) const {
+  for (std::size_t m = 0; m < scene.materials.size(); ++m)
+    if (scene.materials[m].name == name) return int(m);
+  throw std::runtime_error(scene.source_file + ": unknown material '" + name + "'");
+}
+
+void Engine::State::setup_domain() {
+  Vec3d lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  auto include = [&](const Vec3d& a, const Vec3d& b) {
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], a[k]), hi[k] = std::max(hi[k], b[k]);
+  };
+  if (scene.has_domain) {
+    include(scene.domain_min, scene.domain_max);
+  } else {
+    Vec3d wall_lo, wall_hi;
+    if (walls_bounding_box(scene.walls, wall_lo, wall_hi)) include(wall_lo, wall_hi);
+    for (const ParticleSourceConfig& src : scene.sources) {
+      const RegionConfig& r = src.region;
+      if (r.kind == RegionConfig::Kind::Box) {
+        include(r.min, r.max);
+      } else {
+        const Vec3d& c = r.base_center;
+        include({c[0] - r.radius, c[1] - r.radius, c[2]}, {c[0] + r.radius, c[1] + r.radius, c[2] + r.height});
+      }
+    }
+    if (lo[0] > hi[0]) lo = {-1, -1, -1}, hi = {1, 1, 1};
+  }
+  domain_min = lo;
+  domain_max = hi;
+  for (const ParticleSourceConfig& src : scene.sources) {
+    largest_radius = std::max(largest_radius, largest_source_radius(src));
+    smallest_radius = std::min(smallest_radius, smallest_source_radius(src));
+  }
+  skin = scene.skin;
+}
+
+void Engine::State::setup_walls() {
+  table = build_wall_elements(scene.walls, domain_min, domain_max);
+  motions = wall_motions(scene.walls);
+  WallSet& w = walls;
+  w.wall_count = int(scene.walls.size());
+  WallElements& el = w.elements;
+  el.count = int(table.kind.size());
+  el.kind = upload<int>("wall_element_kind", table.kind);
+  el.wall = upload<int>("wall_element_wall", table.wall);
+  el.geometry = upload_rows<DeviceView<double* [9]>>("wall_element_geometry", table.geometry);
+  el.features = upload_rows<DeviceView<int* [6]>>("wall_element_features", table.features);
+  el.edge_owner = upload<int>("wall_edge_owner", table.edge_owner);
+  el.edge_sides = upload<int>("wall_edge_sides", table.edge_sides);
+  el.edge_outward = upload_rows<DeviceView<double* [6]>>("wall_edge_outward", table.edge_outward);
+  el.vertex_owner = upload<int>("wall_vertex_owner", table.vertex_owner);
+  el.vertex_edge_start = upload<int>("wall_vertex_edge_start", table.vertex_edge_start);
+  el.vertex_edge_direction = upload_rows<Vec3View>("wall_vertex_edge_direction", table.vertex_edge_direction);
+  std::vector<WallMotion> device_motions;
+  for (const WallMotionData& m : motions) {
+    WallMotion d;
+    d.pivot = to_vec3(m.pivot);
+    d.velocity = to_vec3(m.velocity);
+    d.omega = to_vec3(m.omega);
+    d.start = m.start;
+    d.active_from = m.active_from;
+    d.active_until = m.active_until;
+    d.material = material_index(m.material);
+    device_motions.push_back(d);
+  }
+  w.motion = upload<WallMotion>("wall_motion", device_motions);
+  w.pose = DeviceView<WallPose*>("wall_pose", w.wall_count);
+  update_wall_poses(w, time);
+}
+
+void Engine::State::setup_outlets() {
+  std::vector<OutletBox> boxes;
+  for (const OutletConfig& o : scene.outlets) {
+    OutletBox b;
+    for (int a = 0; a < 3; ++a) b.min[a] = o.min[a], b.max[a] = o.max[a];
+    boxes.push_back(b);
+  }
+  outlet_count = int(boxes.size());
+  outlets = upload<OutletBox>("outlets", boxes);
+}
+
+void Engine::State::setup_sources() {
+  sources.resize(scene.sources.size());
+  for (std::size_t k = 0; k < scene.sources.size(); ++k) {
+    const ParticleSourceConfig& src = scene.sources[k];
+    SourceState& st = sources[k];
+    st.rng.seed(src.seed);
+    st.material = material_index(src.material);
+    st.next_insertion = src.start;
+    if (src.rate > 0) continue;
+    const std::int64_t wanted = src.count > 0 ? src.count : std::int64_t(1) << 40;
+    const std::vector<ParticleSeed> seeds = generate_particles(src, wanted, current_obstacles(), st.rng);
+    if (src.count > 0 && std::int64_t(seeds.size()) < src.count) {
+      std::ostringstream msg;
+      msg << scene.source_file << ": particles '" << src.name << "': only " << seeds.size() << " of "
+          << src.count << " particles fit in the region without overlaps; enlarge the region or lower the count";
+      throw std::runtime_error(msg.str());
+    }
+    st.inserted = std::int64_t(seeds.size());
+    append_seeds(seeds, st.material);
+  }
+}
+
+Obstacles Engine::State::current_obstacles() const {
+  Obstacles obstacles;
+  const ParticleSnapshot snap = make_snapshot();
+  for (std::size_t i = 0; i < snap.size(); ++i) {
+    obstacles.centres.push_back({snap.position[3 * i], snap.position[3 * i + 1], snap.position[3 * i + 2]});
+    obstacles.radii.push_back(snap.radius[i]);
+  }
+  return obstacles;
+}
+
+void Engine::State::append_seeds(const std::vector<ParticleSeed>& seeds, int material) {
+  std::vector<ParticleInit> inits;
+  inits.reserve(seeds.size());
+  for (const ParticleSeed& seed : seeds) {
+    ParticleInit p;
+    p.position = seed.position;
+    p.velocity = seed.velocity;
+    p.orientation = seed.orientation;
+    p.radius = seed.radius;
+    p.material = material;
+    inits.push_back(p);
+  }
+  append_particles(inits);
+}
+
+void Engine::add_particles(const std::vector<ParticleInit>& particles) {
+  state_->append_particles(particles);
+  state_->compute_forces_at_current_state();
+}
+
+// New particles go at the end, with fresh stable ids; lists are rebuilt before the next forces.
+void Engine::State::append_particles(const std::vector<ParticleInit>& added) {
+  if (added.empty()) return;
+  const int old_count = particles.count;
+  ParticleViews grown;
+  grown.allocate(old_count + int(added.size()));
+  copy_particle_rows(particles, grown, old_count);
+  particles = grown;
+  write_new_rows(added, old_count);
+  for (const ParticleInit& p : added) {
+    largest_radius = std::max(largest_radius, p.radius);
+    smallest_radius = std::min(smallest_radius, p.radius);
+  }
+  needs_rebuild = true;
+}
+
+void Engine::State::write_new_rows(const std::vector<ParticleInit>& added, int first) {
+  ParticleViews& p = particles;
+  auto x = Kokkos::create_mirror_view(p.position);
+  auto v = Kokkos::create_mirror_view(p.velocity);
+  auto w = Kokkos::create_mirror_view(p.angular_velocity);
+  auto q = Kokkos::create_mirror_view(p.orientation);
+  auto radius = Kokkos::create_mirror_view(p.radius);
+  auto mass = Kokkos::create_mirror_view(p.mass);
+  auto inertia = Kokkos::create_mirror_view(p.inertia);
+  auto material = Kokkos::create_mirror_view(p.material);
+  auto id = Kokkos::create_mirror_view(p.id);
+  Kokkos::deep_copy(x, p.position);
+  Kokkos::deep_copy(v, p.velocity);
+  Kokkos::deep_copy(w, p.angular_velocity);
+  Kokkos::deep_copy(q, p.orientation);
+  Kokkos::deep_copy(radius, p.radius);
+  Kokkos::deep_copy(mass, p.mass);
+  Kokkos::deep_copy(inertia, p.inertia);
+  Kokkos::deep_copy(material, p.material);
+  Kokkos::deep_copy(id, p.id);
+  for (std::size_t k = 0; k < added.size(); ++k) {
+    const ParticleInit& a = added[k];
+    const int i = first + int(k);
+    if (!(a.radius > 0)) throw std::runtime_error("particle radius must be positive");
+    if (a.material < 0 || a.material >= int(scene.materials.size()))
+      throw std::runtime_error("particle material index out of range");
+    const double density = scene.materials[a.material].density;
+    for (int c = 0; c < 3; ++c) x(i, c) = a.position[c], v(i, c) = a.velocity[c], w(i, c) = a.angular_velocity[c];
+    for (int c = 0; c < 4; ++c) q(i, c) = a.orientation[c];
+    radius(i) = a.radius;
+    mass(i) = density * sphere_volume(a.radius);
+    for (int c = 0; c < 3; ++c) inertia(i, c) = sphere_inertia(mass(i), a.radius);
+    material(i) = a.material;
+    id(i) = next_id++;
+  }
+  Kokkos::deep_copy(p.position, x);
+  Kokkos::deep_copy(p.velocity, v);
+  Kokkos::deep_copy(p.angular_velocity, w);
+  Kokkos::deep_copy(p.orientation, q);
+  Kokkos::deep_copy(p.radius, radius);
+  Kokkos::deep_copy(p.mass, mass);
+  Kokkos::deep_copy(p.inertia, inertia);
+  Kokkos::deep_copy(p.material, material);
+  Kokkos::deep_copy(p.id, id);
+}
+
+double Engine::State::effective_skin() const {
+  return skin > 0 ? skin : 0.5 * (smallest_radius < 1e300 ? smallest_radius : largest_radius);
+}
+
+// Conservative bound on how far any wall surface point has moved since the lists were built.
+double Engine::State::wall_travel_since_build() const {
+  const double elapsed = time - last_build_time;
+  double travel = 0;
+  const Vec3d extent{domain_max[0] - domain_min[0], domain_max[1] - domain_min[1], domain_max[2] - domain_min[2]};
+  const double reach = std::sqrt(extent[0] * extent[0] + extent[1] * extent[1] + extent[2] * extent[2]);
+  for (const WallMotionData& m : motions) {
+    const double speed = std::sqrt(m.velocity[0] * m.velocity[0] + m.velocity[1] * m.velocity[1] +
+                                   m.velocity[2] * m.velocity[2]);
+    const double spin = std::sqrt(m.omega[0] * m.omega[0] + m.omega[1] * m.omega[1] + m.omega[2] * m.omega[2]);
+    travel = std::max(travel, (speed + spin * reach) * elapsed);
+  }
+  return travel;
+}
+
+bool Engine::State::lists_are_stale() const {
+  if (needs_rebuild || rebuild_every_step) return true;
+  const double half_skin = 0.5 * effective_skin();
+  const double moved = std::sqrt(max_displacement_squared(particles));
+  return moved > half_skin || moved + wall_travel_since_build() > effective_skin();
+}
+
+void Engine::State::rebuild_lists() {
+  const double list_skin = effective_skin();
+  const IndexView old_rows = rows_by_id(particles.id, particles.count, next_id);
+  const double lo[3] = {domain_min[0], domain_min[1], domain_min[2]};
+  const double hi[3] = {domain_max[0], domain_max[1], domain_max[2]};
+  double cell_size = 2 * largest_radius + list_skin;
+  if (!(cell_size > 0) || !std::isfinite(cell_size)) cell_size = std::max(hi[0] - lo[0], 1e-3);
+  const CellGrid grid = make_cell_grid(lo, hi, cell_size, 8'000'000);
+  const CellBins bins = sort_particles_by_cell(particles, grid);
+  PairList fresh_pairs = build_pair_list(particles, bins, list_skin);
+  if (pairs.pair_count > 0) transfer_pair_history(fresh_pairs, pairs, old_rows, particles.id);
+  pairs = fresh_pairs;
+  WallContactList fresh_walls = build_wall_contact_list(particles, walls, list_skin);
+  if (wall_contacts.entry_count > 0)
+    transfer_wall_history(fresh_walls, wall_contacts, old_rows, particles.id, particles.count);
+  wall_contacts = fresh_walls;
+  remember_build_positions(particles);
+  last_build_time = time;
+  needs_rebuild = false;
+  ++list_builds;
+}
+
+void Engine::State::compute_forces() {
+  if (rolling) {
+    apply_gravity_and_wall_forces<true>(particles, walls, wall_contacts, coefficients, gravity, dt);
+    compute_sphere_pair_forces<true>(particles, pairs, coefficients, dt);
+  } else {
+    apply_gravity_and_wall_forces<false>(particles, walls, wall_contacts, coefficients, gravity, dt);
+    compute_sphere_pair_forces<false>(particles, pairs, coefficients, dt);
+  }
+  gather_pair_forces(particles, pairs);
+}
+
+void Engine::State::compute_forces_at_current_state() {
+  update_wall_poses(walls, time);
+  if (lists_are_stale()) rebuild_lists();
+  compute_forces();
+}
+
+void Engine::State::insert_due_particles() {
+  for (std::size_t k = 0; k < sources.size(); ++k) {
+    const ParticleSourceConfig& src = scene.sources[k];
+    SourceState& st = sources[k];
+    if (src.rate <= 0 || st.inserted >= src.count || time < st.next_insertion) continue;
+    st.owed += src.rate * src.interval;
+    const std::int64_t batch = std::min<std::int64_t>(std::int64_t(st.owed), src.count - st.inserted);
+    const std::vector<ParticleSeed> seeds = generate_particles(src, batch, current_obstacles(), st.rng);
+    st.owed -= double(seeds.size());
+    st.inserted += std::int64_t(seeds.size());
+    st.next_insertion += src.interval;
+    append_seeds(seeds, st.material);
+  }
+}
+
+void Engine::State::remove_discharged_particles() {
+  if (outlet_count == 0 || particles.count == 0) return;
+  IndexView keep("keep", particles.count);
+  double removed_mass = 0;
+  const int removed = mark_discharged(particles, outlets, outlet_count, keep, removed_mass);
+  if (removed == 0) return;
+  int kept = 0;
+  const IndexView source = kept_indices(keep, kept);
+  permute_particles(particles, source, kept);
+  discharged_mass += removed_mass;
+  discharged_count += removed;
+  needs_rebuild = true;
+}
+
+void Engine::step() { state_->step(); }
+
+void Engine::State::step() {
+  kick_and_drift(particles, dt);
+  time = double(step_count + 1) * dt;
+  insert_due_particles();
+  if ((step_count + 1) % outlet_check_interval == 0) remove_discharged_particles();
+  compute_forces_at_current_state();
+  kick(particles, dt);
+  ++step_count;
+}
+
+void Engine::advance(std::int64_t steps) {
+  for (std::int64_t k = 0; k < steps; ++k) state_->step();
+}
+
+double Engine::time() const { return state_->time; }
+std::int64_t Engine::step_count() const { return state_->step_count; }
+int Engine::particle_count() const { return state_->particles.count; }
+double Engine::time_step() const { return state_->dt; }
+double Engine::skin() const { return state_->effective_skin(); }
+void Engine::set_rebuild_every_step(bool every_step) { state_->rebuild_every_step = every_step; }
+
+std::string Engine::backend_name() { return ExecSpace::name(); }
+int Engine::backend_concurrency() { return ExecSpace().concurrency(); }
+
+Diagnostics Engine::diagnostics() const {
+  const State& s = *state_;
+  Diagnostics d;
+  d.step = s.step_count;
+  d.time = s.time;
+  d.particles = s.particles.count;
+  const EnergySums e = kinetic_and_potential_energy(s.particles, s.gravity);
+  d.translational_energy = e.translational;
+  d.rotational_energy = e.rotational;
+  d.potential_energy = e.potential;
+  const ContactStatistics pair = pair_contact_statistics(s.particles, s.pairs);
+  const ContactStatistics wall = wall_contact_statistics(s.particles, s.wall_contacts);
+  d.pair_contacts = pair.contacts;
+  d.wall_contacts = wall.contacts;
+  d.largest_overlap_ratio = std::max(pair.largest_overlap_ratio, wall.largest_overlap_ratio);
+  d.discharged_mass = s.discharged_mass;
+  d.discharged_count = s.discharged_count;
+  d.list_builds = s.list_builds;
+  return d;
+}
+
+template <class View>
+std::vector<typename View::non_const_value_type> flatten_to_host(const View& view, int rows) {
+  auto mirror = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), view);
+  const int columns = View::rank == 1 ? 1 : int(view.extent(1));
+  std::vector<typename View::non_const_value_type> out(std::size_t(rows) * columns);
+  for (int i = 0; i < rows; ++i)
+    for (int c = 0; c < columns; ++c) {
+      if constexpr (View::rank == 1)
+        out[i] = mirror(i);
+      else
+        out[std::size_t(i) * columns + c] = mirror(i, c);
+    }
+  return out;
+}
+
+ParticleSnapshot Engine::State::make_snapshot() const {
+  ParticleSnapshot snap;
+  const ParticleViews& p = particles;
+  snap.step = step_count;
+  snap.time = time;
+  if (p.count == 0) return snap;
+  snap.position = flatten_to_host(p.position, p.count);
+  snap.velocity = flatten_to_host(p.velocity, p.count);
+  snap.angular_velocity = flatten_to_host(p.angular_velocity, p.count);
+  snap.quaternion = flatten_to_host(p.orientation, p.count);
+  snap.radius = flatten_to_host(p.radius, p.count);
+  snap.shape = flatten_to_host(p.shape, p.count);
+  snap.material = flatten_to_host(p.material, p.count);
+  snap.id = flatten_to_host(p.id, p.count);
+  return snap;
+}
+
+ParticleSnapshot Engine::snapshot() const { return state_->make_snapshot(); }
+
+std::vector<WallSurface> Engine::wall_surfaces() const {
+  const State& s = *state_;
+  std::vector<WallSurface> surfaces;
+  for (std::size_t w = 0; w < s.scene.walls.size(); ++w) {
+    const WallMotionData& m = s.motions[w];
+    WallMotion motion;
+    motion.pivot = to_vec3(m.pivot);
+    motion.velocity = to_vec3(m.velocity);
+    motion.omega = to_vec3(m.omega);
+    motion.start = m.start;
+    const WallPose pose = wall_pose_at(motion, s.time);
+    WallSurface surface;
+    surface.name = s.scene.walls[w].name;
+    const std::vector<double>& ref = s.table.surface_points[w];
+    for (std::size_t k = 0; k + 2 < ref.size(); k += 3) {
+      const Vec3 world = pose.to_world(Vec3{ref[k], ref[k + 1], ref[k + 2]});
+      surface.points.insert(surface.points.end(), {world.x, world.y, world.z});
+    }
+    surface.triangles = s.table.surface_triangles[w];
+    surfaces.push_back(std::move(surface));
+  }
+  return surfaces;
+}
+
+// Rayleigh time (Li et al. 2005): pi r sqrt(rho / G) / (0.1631 nu + 0.8766); Hertz duration of a
+// head-on impact of two equal spheres (Johnson 1985): 2.87 (m*^2 / (R* E*^2 v))^(1/5).
+// The 20 % and 10 % factors are the usual limits (LIGGGHTS checks the same two).
+TimeStepAdvice Engine::time_step_advice() const {
+  const State& s = *state_;
+  TimeStepAdvice advice;
+  const double r = s.smallest_radius < 1e300 ? s.smallest_radius : s.largest_radius;
+  if (!(r > 0)) return advice;
+  double height = s.domain_max[2] - s.domain_min[2];
+  advice.reference_speed = std::max(1.0, std::sqrt(2 * 9.81 * std::max(height, 0.0)));
+  for (const ParticleSourceConfig& src : s.scene.sources)
+    advice.reference_speed = std::max(advice.reference_speed, std::sqrt(src.velocity[0] * src.velocity[0] +
+                                                                       src.velocity[1] * src.velocity[1] +
+                                                                       src.velocity[2] * src.velocity[2]));
+  advice.rayleigh = 1e300;
+  advice.hertz = 1e300;
+  for (const MaterialConfig& m : s.scene.materials) {
+    const double shear = m.youngs_modulus / (2 * (1 + m.poisson_ratio));
+    advice.rayleigh = std::min(advice.rayleigh, pi * r * std::sqrt(m.density / shear) / (0.1631 * m.poisson_ratio + 0.8766));
+    const double mass = m.density * sphere_volume(r);
+    const double m_eff = 0.5 * mass, r_eff = 0.5 * r;
+    const double e_eff = m.youngs_modulus / (2 * (1 - m.poisson_ratio * m.poisson_ratio));
+    advice.hertz = std::min(advice.hertz, 2.87 * std::pow(m_eff * m_eff / (r_eff * e_eff * e_eff * advice.reference_speed), 0.2));
+  }
+  advice.suggested = std::min(0.2 * advice.rayleigh, 0.1 * advice.hertz);
+  return advice;
+}
+
+}  // namespace kdem

@@ -1,0 +1,86 @@
+#pragma once
+// The engine: owns the particle, contact and wall stores in the execution space's memory, and
+// runs the time step of DESIGN.md §3. Host code outside this class never touches device data.
+#include <cstdint>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "scene.hpp"
+#include "snapshot.hpp"
+
+namespace kdem {
+
+struct ParticleInit {
+  Vec3d position{0, 0, 0};
+  Vec3d velocity{0, 0, 0};
+  Vec3d angular_velocity{0, 0, 0};
+  std::array<double, 4> orientation{1, 0, 0, 0};
+  double radius = 0;
+  int material = 0;
+};
+
+struct Diagnostics {
+  std::int64_t step = 0;
+  double time = 0;
+  int particles = 0;
+  double translational_energy = 0;  // J
+  double rotational_energy = 0;     // J
+  double potential_energy = 0;      // J, gravity, relative to the origin
+  int pair_contacts = 0;
+  int wall_contacts = 0;
+  double largest_overlap_ratio = 0;  // overlap / radius, largest in the current step
+  double discharged_mass = 0;        // kg, removed by outlets so far
+  std::int64_t discharged_count = 0;
+  std::int64_t list_builds = 0;
+};
+
+struct TimeStepAdvice {
+  double rayleigh = 0;    // s, Rayleigh wave time of the smallest particle
+  double hertz = 0;       // s, Hertz contact duration at the reference impact speed
+  double suggested = 0;   // s, min(0.2 rayleigh, 0.1 hertz)
+  double reference_speed = 0;  // m/s
+};
+
+class Engine {
+ public:
+  // Builds materials, walls and outlets, and places the particles of every source that is not
+  // inserted over time. Throws std::runtime_error with a readable message on impossible input.
+  explicit Engine(const SceneConfig& scene);
+  ~Engine();
+  Engine(const Engine&) = delete;
+  Engine& operator=(const Engine&) = delete;
+
+  int material_index(const std::string& name) const;
+  void add_particles(const std::vector<ParticleInit>& particles);
+
+  void step();
+  void advance(std::int64_t steps);
+
+  double time() const;
+  std::int64_t step_count() const;
+  int particle_count() const;
+  double time_step() const;
+  TimeStepAdvice time_step_advice() const;
+
+  Diagnostics diagnostics() const;
+  ParticleSnapshot snapshot() const;
+  std::vector<WallSurface> wall_surfaces() const;
+
+  // Test and benchmark knobs.
+  void set_rebuild_every_step(bool every_step);
+  double skin() const;
+
+  void write_checkpoint(const std::string& path) const;
+  void read_checkpoint(const std::string& path);
+
+  static std::string backend_name();
+  static int backend_concurrency();
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace kdem

@@ -1,0 +1,81 @@
+#pragma once
+// Internal state of the Engine (device stores and host bookkeeping). Only engine sources
+// include this.
+#include <limits>
+#include <random>
+
+#include "../kernels/binning.hpp"
+#include "../kernels/diagnostics.hpp"
+#include "../kernels/pair_list.hpp"
+#include "../kernels/walls.hpp"
+#include "engine.hpp"
+#include "generate.hpp"
+#include "wall_builder.hpp"
+
+namespace kdem {
+
+struct SourceState {
+  std::mt19937_64 rng;
+  int material = 0;
+  std::int64_t inserted = 0;
+  double next_insertion = 0;  // s
+  double owed = 0;            // particles due but not yet placed
+};
+
+struct Engine::State {
+  SceneConfig scene;
+  double dt = 0;
+  double time = 0;
+  std::int64_t step_count = 0;
+  Vec3 gravity;
+  Vec3d domain_min{0, 0, 0}, domain_max{0, 0, 0};
+  double largest_radius = 0;
+  double smallest_radius = std::numeric_limits<double>::infinity();
+  double skin = 0;  // 0: half the smallest radius
+
+  bool rolling = false;
+  CoefficientTable coefficients;
+  ParticleViews particles;
+  std::int64_t next_id = 0;
+  PairList pairs;
+  WallContactList wall_contacts;
+  WallElementTable table;
+  std::vector<WallMotionData> motions;
+  WallSet walls;
+  DeviceView<OutletBox*> outlets;
+  int outlet_count = 0;
+  int outlet_check_interval = 50;
+  std::vector<SourceState> sources;
+
+  bool needs_rebuild = true;
+  bool rebuild_every_step = false;
+  double last_build_time = 0;
+  std::int64_t list_builds = 0;
+  double discharged_mass = 0;
+  std::int64_t discharged_count = 0;
+
+  void setup_materials();
+  void setup_domain();
+  void setup_walls();
+  void setup_outlets();
+  void setup_sources();
+  int material_index(const std::string& name) const;
+
+  Obstacles current_obstacles() const;
+  void append_seeds(const std::vector<ParticleSeed>& seeds, int material);
+  void append_particles(const std::vector<ParticleInit>& added);
+  void write_new_rows(const std::vector<ParticleInit>& added, int first);
+
+  double effective_skin() const;
+  double wall_travel_since_build() const;
+  bool lists_are_stale() const;
+  void rebuild_lists();
+  void compute_forces();
+  void compute_forces_at_current_state();
+  void insert_due_particles();
+  void remove_discharged_particles();
+  void step();
+  ParticleSnapshot make_snapshot() const;
+};
+
+}  // namespace kdem

@@ -1,0 +1,34 @@
+#pragma once
+// Triangle meshes for walls: reading STL, welding coincident vertices, and the edge/vertex
+// topology that sphere-mesh contact needs.
+#include <array>
+#include <string>
+#include <vector>
+
+namespace kdem {
+
+struct TriangleMesh {
+  std::vector<std::array<double, 3>> points;
+  std::vector<std::array<int, 3>> triangles;
+};
+
+// Reads an ASCII or binary STL file (through VTK) and welds its vertices. Throws
+// std::runtime_error naming the file when it cannot be read or holds no triangles.
+TriangleMesh read_stl(const std::string& path);
+
+// Merges points closer than `tolerance` and drops triangles that become degenerate.
+TriangleMesh weld(const TriangleMesh& mesh, double tolerance);
+
+struct MeshTopology {
+  std::vector<std::array<int, 3>> triangle_edges;  // edges ab, bc, ca of each triangle
+  std::vector<std::array<int, 2>> edge_vertices;
+  std::vector<std::vector<int>> edge_triangles;    // adjacent triangles of each edge
+  std::vector<std::array<double, 6>> edge_outward; // per adjacent triangle (first two), unit
+                                                   // in-plane direction away from the triangle
+  std::vector<std::vector<int>> vertex_triangles;
+  std::vector<std::vector<std::array<double, 3>>> vertex_edge_directions;
+};
+
+MeshTopology build_topology(const TriangleMesh& mesh);
+
+}  // namespace kdem

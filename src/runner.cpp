@@ -1,0 +1,226 @@
+#include "runner.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <sstream>
+
+#include "engine.hpp"
+#include "progress.hpp"
+#include "run_summary.hpp"
+#include "scene_loader.hpp"
+#include "series_csv.hpp"
+#include "vtk_output.hpp"
+
+namespace kdem {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string numbered(const std::string& stem, std::int64_t number, const std::string& extension) {
+  char digits[32];
+  std::snprintf(digits, sizeof digits, "%08lld", static_cast<long long>(number));
+  return stem + "_" + digits + extension;
+}
+
+const std::vector<std::string> series_columns = {
+    "step",          "time",          "translational_energy", "rotational_energy",
+    "potential_energy", "particles",  "pair_contacts",        "wall_contacts",
+    "largest_overlap_ratio", "discharged_mass", "discharged_count", "list_builds"};
+
+std::vector<double> series_row(const Diagnostics& d) {
+  return {double(d.step),         d.time,
+          d.translational_energy, d.rotational_energy,
+          d.potential_energy,     double(d.particles),
+          double(d.pair_contacts), double(d.wall_contacts),
+          d.largest_overlap_ratio, d.discharged_mass,
+          double(d.discharged_count), double(d.list_builds)};
+}
+
+bool finite_state(const Diagnostics& d) {
+  return std::isfinite(d.translational_energy) && std::isfinite(d.rotational_energy) &&
+         std::isfinite(d.potential_energy);
+}
+
+// Steps between two events spaced `interval` seconds apart (at least one step).
+std::int64_t steps_per(double interval, double dt, std::int64_t fallback) {
+  if (!(interval > 0)) return fallback;
+  return std::max<std::int64_t>(1, std::llround(interval / dt));
+}
+
+void warn_about_time_step(const Engine& engine, bool quiet) {
+  const TimeStepAdvice advice = engine.time_step_advice();
+  if (quiet || !(advice.suggested > 0) || engine.time_step() <= advice.suggested) return;
+  std::fprintf(stderr,
+               "warning: time_step %.3g s exceeds the suggested %.3g s (20%% of the Rayleigh time %.3g s, "
+               "10%% of the Hertz contact time %.3g s at %.2g m/s)\n",
+               engine.time_step(), advice.suggested, advice.rayleigh, advice.hertz, advice.reference_speed);
+}
+
+class OutputWriter {
+ public:
+  OutputWriter(const fs::path& directory, const SceneConfig& scene, double dt)
+      : directory_(directory),
+        particles_pvd_(directory, "particles"),
+        walls_pvd_(directory, "walls"),
+        series_(directory / "series.csv", series_columns),
+        frame_every_(steps_per(scene.output.frame_interval, dt, 0)),
+        series_every_(steps_per(scene.output.series_interval, dt, 100)),
+        checkpoint_every_(steps_per(scene.output.checkpoint_interval, dt, 0)) {
+    fs::create_directories(directory / "frames");
+  }
+
+  void at_step(const Engine& engine, bool first) {
+    const std::int64_t step = engine.step_count();
+    if (frame_every_ > 0 && (first || step % frame_every_ == 0)) write_frame(engine);
+    if (first || step % series_every_ == 0) add_series_row(engine);
+    if (checkpoint_every_ > 0 && !first && step % checkpoint_every_ == 0) {
+      fs::create_directories(directory_ / "checkpoints");
+      engine.write_checkpoint((directory_ / "checkpoints" / numbered("checkpoint", step, ".h5")).string());
+    }
+  }
+
+  void finish(const Engine& engine, bool final_checkpoint) {
+    const std::int64_t step = engine.step_count();
+    if (frame_every_ > 0 && step % frame_every_ != 0) write_frame(engine);
+    if (step % series_every_ != 0) add_series_row(engine);
+    series_.flush();
+    if (final_checkpoint) engine.write_checkpoint((directory_ / "checkpoint.h5").string());
+  }
+
+  const Diagnostics& last() const { return last_; }
+  double largest_overlap_seen() const { return largest_overlap_; }
+
+ private:
+  void write_frame(const Engine& engine) {
+    const std::int64_t step = engine.step_count();
+    const std::string particle_file = "frames/" + numbered("particles", step, ".vtu");
+    write_particles_vtu(directory_ / particle_file, engine.snapshot());
+    particles_pvd_.add(engine.time(), particle_file);
+    const std::vector<WallSurface> walls = engine.wall_surfaces();
+    for (std::size_t w = 0; w < walls.size(); ++w) {
+      const std::string wall_file = "frames/" + numbered("wall" + std::to_string(w), step, ".vtp");
+      write_wall_vtp(directory_ / wall_file, walls[w]);
+      walls_pvd_.add(engine.time(), wall_file, int(w));
+    }
+  }
+
+  void add_series_row(const Engine& engine) {
+    last_ = engine.diagnostics();
+    largest_overlap_ = std::max(largest_overlap_, last_.largest_overlap_ratio);
+    series_.add_row(series_row(last_));
+    if (++rows_since_flush_ >= 20) {
+      series_.flush();
+      rows_since_flush_ = 0;
+    }
+    if (!finite_state(last_)) {
+      engine.write_checkpoint((directory_ / "nan_dump.h5").string());
+      std::ostringstream msg;
+      msg << "non-finite energy at step " << last_.step << " (t = " << last_.time
+          << " s); state dumped to " << (directory_ / "nan_dump.h5").string();
+      throw std::runtime_error(msg.str());
+    }
+  }
+
+  fs::path directory_;
+  PvdSeries particles_pvd_, walls_pvd_;
+  SeriesCsv series_;
+  std::int64_t frame_every_, series_every_, checkpoint_every_;
+  Diagnostics last_;
+  double largest_overlap_ = 0;
+  int rows_since_flush_ = 0;
+};
+
+RunSummary summarise(const Engine& engine, const OutputWriter& output, std::int64_t steps, double seconds,
+                     double particle_steps, double initial_energy) {
+  RunSummary summary;
+  summary.version = KDEM_VERSION;
+  summary.git_hash = KDEM_GIT_HASH;
+  summary.backend = Engine::backend_name();
+  summary.threads = Engine::backend_concurrency();
+  const Diagnostics& d = output.last();
+  summary.particles = d.particles;
+  summary.steps = steps;
+  summary.contacts = d.pair_contacts + d.wall_contacts;
+  summary.narrow_phase_failures = 0;  // spheres have a closed-form narrow phase
+  summary.wall_seconds = seconds;
+  summary.particle_steps_per_second = seconds > 0 ? particle_steps / seconds : 0;
+  summary.largest_overlap_ratio = output.largest_overlap_seen();
+  summary.simulated_time = engine.time();
+  summary.discharged_mass = d.discharged_mass;
+  const double energy = d.translational_energy + d.rotational_energy + d.potential_energy;
+  summary.energy_drift = initial_energy != 0 ? (energy - initial_energy) / std::abs(initial_energy) : 0;
+  summary.extra.push_back({"time_step", engine.time_step()});
+  summary.extra.push_back({"list_builds", double(d.list_builds)});
+  summary.extra.push_back({"discharged_count", double(d.discharged_count)});
+  return summary;
+}
+
+}  // namespace
+
+int run_scene(const RunOptions& options) {
+  std::optional<Engine> engine;
+  SceneConfig scene;
+  try {
+    scene = load_scene(options.scene_path);
+    if (!options.output_directory.empty()) scene.output.directory = options.output_directory;
+    engine.emplace(scene);
+    if (!options.restart_path.empty()) engine->read_checkpoint(options.restart_path);
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "error: %s\n", error.what());
+    return 2;
+  }
+  warn_about_time_step(*engine, options.quiet);
+  try {
+    const fs::path directory = scene.output.directory;
+    OutputWriter output(directory, scene, engine->time_step());
+    const std::int64_t total_steps = std::llround(scene.duration / scene.time_step);
+    std::int64_t remaining = std::max<std::int64_t>(0, total_steps - engine->step_count());
+    if (options.max_steps >= 0) remaining = std::min(remaining, options.max_steps);
+    output.at_step(*engine, true);
+    const Diagnostics& first = output.last();
+    const double initial_energy = first.translational_energy + first.rotational_energy + first.potential_energy;
+    ProgressLine progress(options.quiet, engine->step_count() + remaining);
+    const auto start = std::chrono::steady_clock::now();
+    double particle_steps = 0;
+    for (std::int64_t k = 0; k < remaining; ++k) {
+      particle_steps += engine->particle_count();
+      engine->step();
+      output.at_step(*engine, false);
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      progress.update(engine->step_count(), engine->time(), seconds > 0 ? particle_steps / seconds : 0);
+    }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    progress.finish();
+    output.finish(*engine, scene.output.final_checkpoint);
+    write_run_json(directory / "run.json",
+                   summarise(*engine, output, remaining, seconds, particle_steps, initial_energy));
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "error: %s\n", error.what());
+    return 1;
+  }
+  return 0;
+}
+
+int check_scene(const std::string& scene_path) {
+  try {
+    const SceneConfig scene = load_scene(scene_path);
+    Engine engine(scene);
+    const TimeStepAdvice advice = engine.time_step_advice();
+    std::printf("%s: %d particles, %zu walls, %zu materials\n", scene_path.c_str(), engine.particle_count(),
+                scene.walls.size(), scene.materials.size());
+    std::printf("time step %.3g s; suggested %.3g s (Rayleigh %.3g s, Hertz %.3g s at %.2g m/s)\n",
+                engine.time_step(), advice.suggested, advice.rayleigh, advice.hertz, advice.reference_speed);
+    std::printf("steps %lld, skin %.3g m\n", static_cast<long long>(std::llround(scene.duration / scene.time_step)),
+                engine.skin());
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "error: %s\n", error.what());
+    return 2;
+  }
+  return 0;
+}
+
+}  // namespace kdem

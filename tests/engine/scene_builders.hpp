@@ -1,0 +1,80 @@
+#pragma once
+// Small programmatic scenes for engine tests.
+#include <cmath>
+
+#include "src/engine.hpp"
+#include "src/scene.hpp"
+
+namespace kdem::testing {
+
+inline MaterialConfig material(const std::string& name, double density, double youngs, double poisson,
+                               double restitution, double friction, double rolling = 0) {
+  MaterialConfig m;
+  m.name = name;
+  m.density = density;
+  m.youngs_modulus = youngs;
+  m.poisson_ratio = poisson;
+  m.restitution = restitution;
+  m.friction = friction;
+  m.rolling_friction = rolling;
+  return m;
+}
+
+// A scene without particles, gravity or walls; tests add what they need.
+inline SceneConfig empty_scene(double dt, const std::vector<MaterialConfig>& materials) {
+  SceneConfig scene;
+  scene.source_file = "test";
+  scene.gravity = {0, 0, 0};
+  scene.time_step = dt;
+  scene.duration = 1;
+  scene.materials = materials;
+  scene.has_domain = true;
+  scene.domain_min = {-1, -1, -1};
+  scene.domain_max = {1, 1, 1};
+  return scene;
+}
+
+inline WallConfig plane_wall(const std::string& material, Vec3d point, Vec3d normal) {
+  WallConfig w;
+  w.kind = WallConfig::Kind::Plane;
+  w.name = "plane";
+  w.material = material;
+  w.point = point;
+  const double n = std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
+  w.normal = {normal[0] / n, normal[1] / n, normal[2] / n};
+  return w;
+}
+
+inline ParticleInit sphere(Vec3d position, double radius, Vec3d velocity = {0, 0, 0}, int material = 0) {
+  ParticleInit p;
+  p.position = position;
+  p.radius = radius;
+  p.velocity = velocity;
+  p.material = material;
+  return p;
+}
+
+// Hertz's elastic impact at relative speed v (Johnson, Contact Mechanics, 1985, 11.1):
+// peak overlap (15 m* v^2 / (16 E* sqrt(R*)))^(2/5), peak force 4/3 E* sqrt(R*) d^1.5,
+// duration 2 (d_max / v) integral_0^1 (1 - x^2.5)^-1/2 dx = 2.9432 d_max / v.
+struct HertzImpact {
+  double peak_overlap, peak_force, duration;
+};
+
+inline HertzImpact hertz_impact(double effective_mass, double effective_radius, double effective_youngs,
+                                double speed) {
+  HertzImpact h;
+  const double k = 4.0 / 3.0 * effective_youngs * std::sqrt(effective_radius);
+  h.peak_overlap = std::pow(15.0 * effective_mass * speed * speed / (16.0 * effective_youngs * std::sqrt(effective_radius)), 0.4);
+  h.peak_force = k * std::pow(h.peak_overlap, 1.5);
+  const double integral = std::sqrt(M_PI) * std::tgamma(1.4) / std::tgamma(0.9);  // = 1.4716...
+  h.duration = 2.0 * integral * h.peak_overlap / speed;
+  return h;
+}
+
+inline double effective_youngs(const MaterialConfig& a, const MaterialConfig& b) {
+  return 1.0 / ((1 - a.poisson_ratio * a.poisson_ratio) / a.youngs_modulus +
+                (1 - b.poisson_ratio * b.poisson_ratio) / b.youngs_modulus);
+}
+
+}  // namespace kdem::testing
