@@ -21,8 +21,8 @@
 #   KDEM_CACHE=DIR     where scripts/deps.sh keeps its Kokkos builds (~/.cache/kdem)
 #   CMAKE_ARGS=...     extra arguments for the CMake configure step
 #
-# The configure step runs only when build/<preset> is not configured yet (or the
-# Kokkos install changed); afterwards `cmake --build` re-runs CMake by itself when
+# The configure step runs only when build/<preset> is not configured yet, the Kokkos
+# install changed (then with --fresh) or CMakePresets.json changed; afterwards `cmake --build` re-runs CMake by itself when
 # a CMakeLists.txt changes.
 
 SHELL := /bin/bash
@@ -66,9 +66,12 @@ define configure_build
 	if [ -n "$(KOKKOS_ROOT)" ]; then root="$(KOKKOS_ROOT)"; \
 	else root=$$($(DEPS) --print-root $(2)); fi; \
 	prefix="$$root"; [ -z "$(KOKKOS_KERNELS_ROOT)" ] || prefix="$$root;$(KOKKOS_KERNELS_ROOT)"; \
-	bdir=build/$(1); \
-	if [ ! -f $$bdir/CMakeCache.txt ] || [ "$$(cat $$bdir/.kokkos-root 2>/dev/null)" != "$$prefix" ]; then \
-	  fresh=""; [ ! -f $$bdir/CMakeCache.txt ] || fresh="--fresh"; \
+	bdir=build/$(1); fresh=""; \
+	if [ ! -f $$bdir/CMakeCache.txt ]; then configure=1; \
+	elif [ "$$(cat $$bdir/.kokkos-root 2>/dev/null)" != "$$prefix" ]; then configure=1; fresh="--fresh"; \
+	elif [ CMakePresets.json -nt $$bdir/CMakeCache.txt ]; then configure=1; \
+	else configure=0; fi; \
+	if [ $$configure -eq 1 ]; then \
 	  echo "-- configuring preset $(1) with Kokkos from $$root"; \
 	  KDEM_KOKKOS_ROOT="$$root" cmake --preset $(1) $$fresh \
 	    -DKokkos_ROOT="$$root" -DCMAKE_PREFIX_PATH="$$prefix" \
