@@ -17,7 +17,7 @@ inline double max_displacement_squared(const ParticleViews& p) {
         if (d2 > m) m = d2;
       },
       Kokkos::Max<double>(result));
-  return result;
+  return math::max(result, 0.0);
 }
 
 inline void remember_build_positions(const ParticleViews& p) { Kokkos::deep_copy(p.position_at_build, p.position); }
@@ -64,7 +64,7 @@ inline ContactStatistics pair_contact_statistics(const ParticleViews& p, const P
         if (ratio > m) m = ratio;
       },
       contacts, Kokkos::Max<double>(largest));
-  return {contacts, largest};
+  return {contacts, math::max(largest, 0.0)};
 }
 
 inline ContactStatistics wall_contact_statistics(const ParticleViews& p, const WallContactList& list) {
@@ -83,7 +83,7 @@ inline ContactStatistics wall_contact_statistics(const ParticleViews& p, const W
         }
       },
       contacts, Kokkos::Max<double>(largest));
-  return {contacts, largest};
+  return {contacts, math::max(largest, 0.0)};
 }
 
 struct OutletBox {

@@ -62,18 +62,20 @@ void for_each_particle_field(Visitor&& visit) {
 }
 
 // new_field(k) = old_field(source(k)) for every field; `source` has new_count entries.
-template <class View>
-View gather_rows(const View& old_field, const IndexView& source, int new_count) {
-  View result(old_field.label(), new_count);
-  const int columns = static_cast<int>(old_field.extent(1));
+template <class T>
+DeviceView<T*> gather_rows(const DeviceView<T*>& old_field, const IndexView& source, int new_count) {
+  DeviceView<T*> result(old_field.label(), new_count);
+  Kokkos::parallel_for(
+      "kdem::gather_rows", RangePolicy(0, new_count), KOKKOS_LAMBDA(int k) { result(k) = old_field(source(k)); });
+  return result;
+}
+
+template <class T, std::size_t N>
+DeviceView<T* [N]> gather_rows(const DeviceView<T* [N]>& old_field, const IndexView& source, int new_count) {
+  DeviceView<T* [N]> result(old_field.label(), new_count);
   Kokkos::parallel_for(
       "kdem::gather_rows", RangePolicy(0, new_count), KOKKOS_LAMBDA(int k) {
-        const int from = source(k);
-        if constexpr (View::rank == 1) {
-          result(k) = old_field(from);
-        } else {
-          for (int c = 0; c < columns; ++c) result(k, c) = old_field(from, c);
-        }
+        for (std::size_t c = 0; c < N; ++c) result(k, c) = old_field(source(k), c);
       });
   return result;
 }

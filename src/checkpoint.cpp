@@ -72,6 +72,7 @@ void Engine::write_checkpoint(const std::string& path) const {
   for_each_particle_field([&](const char* name, auto member) {
     save_view(out, std::string("particles/") + name, s.particles.*member);
   });
+  save_view(out, "ids_at_build", s.ids_at_build);
   for_each_pair_list_field([&](const char* name, auto member) {
     save_view(out, std::string("pairs/") + name, s.pairs.*member);
   });
@@ -113,6 +114,7 @@ void Engine::read_checkpoint(const std::string& path) {
     load_view(in, std::string("particles/") + name, s.particles.*member);
   });
   s.particles.count = int(in.read_scalar_int64("particle_count"));
+  load_view(in, "ids_at_build", s.ids_at_build);
   for_each_pair_list_field([&](const char* name, auto member) {
     load_view(in, std::string("pairs/") + name, s.pairs.*member);
   });

@@ -340,7 +340,9 @@ bool Engine::State::lists_are_stale() const {
 
 void Engine::State::rebuild_lists() {
   const double list_skin = effective_skin();
-  const IndexView old_rows = rows_by_id(particles.id, particles.count, next_id);
+  // Old lists are indexed by the particle order of their build, which insertion and removal
+  // have changed since; map ids through the order saved at that build.
+  const IndexView old_rows = rows_by_id(ids_at_build, int(ids_at_build.extent(0)), next_id);
   const double lo[3] = {domain_min[0], domain_min[1], domain_min[2]};
   const double hi[3] = {domain_max[0], domain_max[1], domain_max[2]};
   double cell_size = 2 * largest_radius + list_skin;
@@ -355,6 +357,7 @@ void Engine::State::rebuild_lists() {
     transfer_wall_history(fresh_walls, wall_contacts, old_rows, particles.id, particles.count);
   wall_contacts = fresh_walls;
   remember_build_positions(particles);
+  ids_at_build = particles.id;
   last_build_time = time;
   needs_rebuild = false;
   ++list_builds;

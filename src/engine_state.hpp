@@ -38,6 +38,7 @@ struct Engine::State {
   ParticleViews particles;
   std::int64_t next_id = 0;
   PairList pairs;
+  IdView ids_at_build;  // particle ids in the order the lists were built for
   WallContactList wall_contacts;
   WallElementTable table;
   std::vector<WallMotionData> motions;

@@ -51,7 +51,8 @@ void add_plane(WallElementTable& t, int wall, const Vec3d& origin, const Vec3d& 
 }
 
 void draw_plane_patch(SurfaceBuilder& s, const Vec3d& origin, const Vec3d& normal, double half_size) {
-  const auto [u, v] = tangent_basis(normal);
+  const auto basis = tangent_basis(normal);
+  const Vec3d u = basis.first, v = basis.second;
   auto corner = [&](double a, double b) { return add(origin, add(scaled(u, a), scaled(v, b))); };
   s.add_quad(corner(-half_size, -half_size), corner(half_size, -half_size), corner(half_size, half_size),
              corner(-half_size, half_size));
@@ -85,7 +86,8 @@ void add_cylinder(WallElementTable& t, SurfaceBuilder& s, int wall, const WallCo
   const Vec3d& a = c.axis_direction;
   t.geometry.push_back({b[0], b[1], b[2], a[0], a[1], a[2], c.radius, c.length, 0});
   t.features.push_back({-1, -1, -1, -1, -1, -1});
-  const auto [u, v] = tangent_basis(a);
+  const auto basis = tangent_basis(a);
+  const Vec3d u = basis.first, v = basis.second;
   const int segments = 64;
   for (int k = 0; k < segments; ++k) {
     auto rim = [&](int m, double along) {
