@@ -1,0 +1,428 @@
+// Sphere throughput benchmark: a settled bed of N spheres (r = 1 mm +- 10 %) in a box under
+// gravity, Hertz-Mindlin with tangential history and Coulomb friction, no rolling resistance.
+//
+//   kdem_bench_openmp --n N --steps M --repeat R [--warmup W] [--out FILE.json]
+//                     [--cache-dir DIR] [--write-data FILE.data] [--rebuild-every-step]
+//                     [--kokkos-threads=T]
+//
+// The bed is built from one settled tile of 1000 spheres (20 mm x 20 mm footprint, about nine
+// diameters deep), settled once with this engine and cached as text in --cache-dir. N spheres
+// are laid out as kx x ky copies of the tile, every other copy mirrored, so that two copies meet
+// face to face exactly as the tile met its side wall: the composite is in equilibrium from the
+// start. When N is not a product of the tile count that lays out near-square, the topmost
+// spheres are left out. Every run starts from these positions at rest, runs W untimed warm-up
+// steps (contact history builds up), then R timed runs of M steps. Only engine.advance is timed.
+//
+// --write-data writes the same bed as a LIGGGHTS/LAMMPS data file (atom_style granular) so that
+// perf/run_bench.py can run the peer code on identical positions.
+#include <Kokkos_Core.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "src/engine.hpp"
+#include "src/scene.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The benchmark's material and numerics; perf/run_bench.py writes the same into the LIGGGHTS
+// input (it reads them back from the JSON record).
+struct BenchParameters {
+  double density = 2500;      // kg/m^3
+  double youngs = 1e8;        // Pa
+  double poisson = 0.3;       // -
+  double restitution = 0.5;   // -
+  double friction = 0.5;      // -
+  double mean_radius = 1e-3;  // m
+  double radius_spread = 0.1; // radii uniform in mean (1 +- spread)
+  double time_step = 4e-6;    // s, 0.16 of the Rayleigh time of the smallest sphere
+  double skin = 2e-4;         // m, 0.1 mean diameter
+  double gravity = 9.81;      // m/s^2, along -z
+  double tile_size = 0.02;    // m, square footprint of one tile
+  int tile_count = 1000;      // spheres per tile
+  std::uint64_t seed = 1;
+};
+
+struct Options {
+  long long n = 1000;
+  long long steps = 1000;
+  int repeat = 3;
+  long long warmup = 1000;
+  std::string out;
+  std::string cache_dir = "perf/cache";
+  std::string write_data;
+  bool rebuild_every_step = false;
+};
+
+struct Sphere {
+  double x, y, z, r;
+};
+
+struct Bed {
+  std::vector<Sphere> spheres;
+  double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0}; // walls on x, y and z = lo[2]; hi[2] is the
+                                               // top of the simulation domain (open)
+  int tiles_x = 1, tiles_y = 1;
+};
+
+const char* usage =
+    "usage: kdem_bench_<backend> --n N --steps M --repeat R [--warmup W] [--out FILE.json]\n"
+    "                            [--cache-dir DIR] [--write-data FILE.data] "
+    "[--rebuild-every-step]\n"
+    "Kokkos options (e.g. --kokkos-threads=2) are passed to Kokkos.\n";
+
+Options parse(int argc, char** argv) {
+  Options o;
+  std::vector<std::string> words;
+  for (int k = 1; k < argc; ++k)
+    if (std::strncmp(argv[k], "--kokkos", 8) != 0)
+      words.emplace_back(argv[k]);
+  for (std::size_t k = 0; k < words.size(); ++k) {
+    const std::string& w = words[k];
+    auto value = [&]() -> std::string {
+      if (k + 1 >= words.size())
+        throw std::runtime_error(w + " needs a value");
+      return words[++k];
+    };
+    if (w == "--n")
+      o.n = std::stoll(value());
+    else if (w == "--steps")
+      o.steps = std::stoll(value());
+    else if (w == "--repeat")
+      o.repeat = std::stoi(value());
+    else if (w == "--warmup")
+      o.warmup = std::stoll(value());
+    else if (w == "--out")
+      o.out = value();
+    else if (w == "--cache-dir")
+      o.cache_dir = value();
+    else if (w == "--write-data")
+      o.write_data = value();
+    else if (w == "--rebuild-every-step")
+      o.rebuild_every_step = true;
+    else if (w == "-h" || w == "--help") {
+      std::fputs(usage, stdout);
+      std::exit(0);
+    } else
+      throw std::runtime_error("unknown argument '" + w + "'");
+  }
+  if (o.n < 1 || o.steps < 0 || o.repeat < 0 || o.warmup < 0)
+    throw std::runtime_error("--n must be positive; --steps, --repeat, --warmup not negative");
+  return o;
+}
+
+kdem::MaterialConfig bench_material(const BenchParameters& p) {
+  kdem::MaterialConfig m;
+  m.name = "glass_like";
+  m.density = p.density;
+  m.youngs_modulus = p.youngs;
+  m.poisson_ratio = p.poisson;
+  m.restitution = p.restitution;
+  m.friction = p.friction;
+  m.rolling_friction = 0;
+  return m;
+}
+
+kdem::WallConfig box_walls(const BenchParameters& p, const double lo[3], const double hi[3]) {
+  kdem::WallConfig w;
+  w.kind = kdem::WallConfig::Kind::Box;
+  w.name = "box";
+  w.material = bench_material(p).name;
+  w.min = {lo[0], lo[1], lo[2]};
+  w.max = {hi[0], hi[1], hi[2]};
+  w.open_faces = {"zmax"};
+  return w;
+}
+
+kdem::SceneConfig base_scene(const BenchParameters& p, const double lo[3], const double hi[3]) {
+  kdem::SceneConfig scene;
+  scene.source_file = "bench_spheres";
+  scene.gravity = {0, 0, -p.gravity};
+  scene.time_step = p.time_step;
+  scene.duration = 1e300;
+  scene.skin = p.skin;
+  scene.has_domain = true;
+  scene.domain_min = {lo[0], lo[1], lo[2]};
+  scene.domain_max = {hi[0], hi[1], hi[2]};
+  scene.materials = {bench_material(p)};
+  scene.walls = {box_walls(p, lo, hi)};
+  return scene;
+}
+
+std::string tile_cache_name(const BenchParameters& p) {
+  std::ostringstream name;
+  name << "sphere_tile_v1_n" << p.tile_count << "_seed" << p.seed << "_E" << p.youngs << "_dt"
+       << p.time_step << ".txt";
+  return name.str();
+}
+
+// Pours the tile's spheres from a loose random placement into a box and lets them settle.
+std::vector<Sphere> settle_tile(const BenchParameters& p) {
+  const double pour_height = 0.05, domain_height = 0.06;
+  const double lo[3] = {0, 0, 0}, hi[3] = {p.tile_size, p.tile_size, domain_height};
+  kdem::SceneConfig scene = base_scene(p, lo, hi);
+  kdem::ParticleSourceConfig source;
+  source.name = "tile";
+  source.material = scene.materials[0].name;
+  source.sizes.kind = kdem::SizeDistributionConfig::Kind::Uniform;
+  source.sizes.min_radius = p.mean_radius * (1 - p.radius_spread);
+  source.sizes.max_radius = p.mean_radius * (1 + p.radius_spread);
+  source.region.kind = kdem::RegionConfig::Kind::Box;
+  source.region.min = {0, 0, 0};
+  source.region.max = {p.tile_size, p.tile_size, pour_height};
+  source.count = p.tile_count;
+  source.seed = p.seed;
+  scene.sources = {source};
+  kdem::Engine engine(scene);
+
+  const double mass = p.density * 4.0 / 3.0 * M_PI * std::pow(p.mean_radius, 3);
+  const double energy_scale = p.tile_count * mass * p.gravity * p.mean_radius;
+  const std::int64_t chunk = std::llround(0.01 / p.time_step);
+  for (int k = 1;; ++k) {
+    engine.advance(chunk);
+    const kdem::Diagnostics d = engine.diagnostics();
+    const double kinetic = d.translational_energy + d.rotational_energy;
+    std::fprintf(stderr, "[bench] settling tile: t = %.2f s, kinetic energy / (N m g r) = %.2e\n",
+                 d.time, kinetic / energy_scale);
+    if (!std::isfinite(kinetic))
+      throw std::runtime_error("tile settling diverged");
+    if (d.particles != p.tile_count)
+      throw std::runtime_error("spheres escaped the tile box while settling");
+    if (d.time >= 0.2 && kinetic < 1e-6 * energy_scale)
+      break;
+    if (d.time > 2.0)
+      throw std::runtime_error("tile did not settle within 2 s");
+  }
+  const kdem::ParticleSnapshot snap = engine.snapshot();
+  std::vector<Sphere> spheres(snap.size());
+  for (std::size_t i = 0; i < snap.size(); ++i)
+    spheres[i] = {snap.position[3 * i], snap.position[3 * i + 1], snap.position[3 * i + 2],
+                  snap.radius[i]};
+  return spheres;
+}
+
+std::vector<Sphere> load_or_settle_tile(const BenchParameters& p, const std::string& cache_dir) {
+  const fs::path path = fs::path(cache_dir) / tile_cache_name(p);
+  std::vector<Sphere> spheres;
+  if (std::ifstream in{path}; in) {
+    std::string line;
+    while (std::getline(in, line)) {
+      if (line.empty() || line[0] == '#')
+        continue;
+      Sphere s;
+      std::istringstream row(line);
+      if (row >> s.x >> s.y >> s.z >> s.r)
+        spheres.push_back(s);
+    }
+    if (int(spheres.size()) == p.tile_count) {
+      std::fprintf(stderr, "[bench] settled tile loaded from %s\n", path.string().c_str());
+      return spheres;
+    }
+    std::fprintf(stderr, "[bench] ignoring incomplete cache %s\n", path.string().c_str());
+  }
+  spheres = settle_tile(p);
+  fs::create_directories(path.parent_path().empty() ? fs::path(".") : path.parent_path());
+  const fs::path partial = path.string() + ".part";
+  {
+    std::ofstream out(partial);
+    out << "# settled tile of " << spheres.size() << " spheres in a " << p.tile_size
+        << " m box: x y z r (m)\n";
+    out.precision(17);
+    for (const Sphere& s : spheres)
+      out << s.x << ' ' << s.y << ' ' << s.z << ' ' << s.r << '\n';
+  }
+  fs::rename(partial, path);
+  std::fprintf(stderr, "[bench] settled tile cached in %s\n", path.string().c_str());
+  return spheres;
+}
+
+// kx x ky tiles, kx >= ky, as square as possible, holding at least n spheres.
+void choose_layout(long long n, int tile_count, int& kx, int& ky) {
+  const long long tiles = (n + tile_count - 1) / tile_count;
+  ky = int(std::floor(std::sqrt(double(tiles))));
+  while (ky > 1 && tiles % ky != 0)
+    --ky;
+  kx = int(tiles / ky);
+  if (double(kx) / ky > 4) { // a poor factorisation: take a square and leave spheres out
+    ky = int(std::ceil(std::sqrt(double(tiles))));
+    kx = int((tiles + ky - 1) / ky);
+  }
+}
+
+Bed make_bed(const BenchParameters& p, const std::vector<Sphere>& tile, long long n) {
+  Bed bed;
+  choose_layout(n, p.tile_count, bed.tiles_x, bed.tiles_y);
+  const double L = p.tile_size;
+  for (int ty = 0; ty < bed.tiles_y; ++ty)
+    for (int tx = 0; tx < bed.tiles_x; ++tx)
+      for (const Sphere& s : tile) {
+        Sphere c = s;
+        c.x = tx * L + (tx % 2 == 1 ? L - s.x : s.x);
+        c.y = ty * L + (ty % 2 == 1 ? L - s.y : s.y);
+        bed.spheres.push_back(c);
+      }
+  if (static_cast<long long>(bed.spheres.size()) > n) {
+    std::stable_sort(bed.spheres.begin(), bed.spheres.end(),
+                     [](const Sphere& a, const Sphere& b) { return a.z + a.r < b.z + b.r; });
+    bed.spheres.resize(std::size_t(n));
+  }
+  double top = 0;
+  for (const Sphere& s : bed.spheres)
+    top = std::max(top, s.z + s.r);
+  bed.hi[0] = bed.tiles_x * L;
+  bed.hi[1] = bed.tiles_y * L;
+  bed.hi[2] = top + 10 * p.mean_radius;
+  return bed;
+}
+
+void write_liggghts_data(const std::string& path, const Bed& bed, const BenchParameters& p) {
+  const fs::path target(path);
+  if (target.has_parent_path())
+    fs::create_directories(target.parent_path());
+  const std::string partial = path + ".part";
+  {
+    std::FILE* f = std::fopen(partial.c_str(), "w");
+    if (!f)
+      throw std::runtime_error("cannot write " + partial);
+    std::fprintf(f, "LIGGGHTS data file: kdem sphere benchmark bed, %zu spheres\n\n",
+                 bed.spheres.size());
+    std::fprintf(f, "%zu atoms\n1 atom types\n\n", bed.spheres.size());
+    const char* axes[3] = {"x", "y", "z"};
+    for (int a = 0; a < 3; ++a)
+      std::fprintf(f, "%.17g %.17g %slo %shi\n", bed.lo[a], bed.hi[a], axes[a], axes[a]);
+    std::fprintf(f, "\nAtoms\n\n");
+    for (std::size_t i = 0; i < bed.spheres.size(); ++i) {
+      const Sphere& s = bed.spheres[i];
+      std::fprintf(f, "%zu 1 %.17g %.17g %.17g %.17g %.17g\n", i + 1, 2 * s.r, p.density, s.x, s.y,
+                   s.z);
+    }
+    if (std::fclose(f) != 0)
+      throw std::runtime_error("cannot write " + partial);
+  }
+  fs::rename(partial, target);
+}
+
+double median(std::vector<double> v) {
+  if (v.empty())
+    return 0;
+  std::sort(v.begin(), v.end());
+  const std::size_t m = v.size() / 2;
+  return v.size() % 2 == 1 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+}
+
+std::string json_number(double x) {
+  if (!std::isfinite(x))
+    return "null";
+  char buffer[40];
+  std::snprintf(buffer, sizeof buffer, "%.10g", x);
+  return buffer;
+}
+
+int run(const Options& o) {
+  const BenchParameters p;
+  const std::vector<Sphere> tile = load_or_settle_tile(p, o.cache_dir);
+  const Bed bed = make_bed(p, tile, o.n);
+  if (!o.write_data.empty()) {
+    write_liggghts_data(o.write_data, bed, p);
+    std::fprintf(stderr, "[bench] wrote %s\n", o.write_data.c_str());
+  }
+
+  kdem::Engine engine(base_scene(p, bed.lo, bed.hi));
+  std::vector<kdem::ParticleInit> inits(bed.spheres.size());
+  for (std::size_t i = 0; i < bed.spheres.size(); ++i) {
+    inits[i].position = {bed.spheres[i].x, bed.spheres[i].y, bed.spheres[i].z};
+    inits[i].radius = bed.spheres[i].r;
+  }
+  engine.add_particles(inits);
+  engine.set_rebuild_every_step(o.rebuild_every_step);
+
+  engine.advance(o.warmup);
+  Kokkos::fence();
+  const kdem::Diagnostics before = engine.diagnostics();
+
+  std::vector<double> times;
+  for (int k = 0; k < o.repeat; ++k) {
+    const auto start = std::chrono::steady_clock::now();
+    engine.advance(o.steps);
+    Kokkos::fence();
+    const auto stop = std::chrono::steady_clock::now();
+    times.push_back(std::chrono::duration<double>(stop - start).count());
+  }
+  const kdem::Diagnostics after = engine.diagnostics();
+  const double median_s = median(times);
+  const long long n = engine.particle_count();
+  const double rate = median_s > 0 ? double(n) * double(o.steps) / median_s : 0.0;
+
+  std::ostringstream json;
+  json << "{\"code\": \"kdem\", \"backend\": \"" << kdem::Engine::backend_name() << "\""
+       << ", \"threads\": " << kdem::Engine::backend_concurrency() << ", \"n\": " << n
+       << ", \"steps\": " << o.steps << ", \"repeat\": " << o.repeat << ", \"warmup\": " << o.warmup
+       << ", \"rebuild_every_step\": " << (o.rebuild_every_step ? "true" : "false")
+       << ", \"median_s\": " << json_number(median_s) << ", \"times_s\": [";
+  for (std::size_t k = 0; k < times.size(); ++k)
+    json << (k ? ", " : "") << json_number(times[k]);
+  json << "], \"particle_steps_per_s\": " << json_number(rate)
+       << ", \"pair_contacts\": " << after.pair_contacts
+       << ", \"wall_contacts\": " << after.wall_contacts << ", \"contacts_per_particle\": "
+       << json_number(n > 0 ? 2.0 * after.pair_contacts / double(n) : 0.0)
+       << ", \"list_builds_timed\": " << (after.list_builds - before.list_builds)
+       << ", \"list_builds_total\": " << after.list_builds
+       << ", \"largest_overlap_ratio\": " << json_number(after.largest_overlap_ratio)
+       << ", \"kinetic_energy_j\": "
+       << json_number(after.translational_energy + after.rotational_energy)
+       << ", \"bed\": {\"tiles\": [" << bed.tiles_x << ", " << bed.tiles_y << "], \"box_min\": ["
+       << json_number(bed.lo[0]) << ", " << json_number(bed.lo[1]) << ", " << json_number(bed.lo[2])
+       << "], \"box_max\": [" << json_number(bed.hi[0]) << ", " << json_number(bed.hi[1]) << ", "
+       << json_number(bed.hi[2]) << "]}"
+       << ", \"model\": {\"density\": " << json_number(p.density)
+       << ", \"youngs_modulus\": " << json_number(p.youngs)
+       << ", \"poisson_ratio\": " << json_number(p.poisson)
+       << ", \"restitution\": " << json_number(p.restitution)
+       << ", \"friction\": " << json_number(p.friction)
+       << ", \"mean_radius\": " << json_number(p.mean_radius)
+       << ", \"radius_spread\": " << json_number(p.radius_spread)
+       << ", \"time_step\": " << json_number(p.time_step) << ", \"skin\": " << json_number(p.skin)
+       << ", \"gravity\": " << json_number(p.gravity) << "}"
+       << ", \"git\": \"" << KDEM_GIT_HASH << "\"}";
+  std::cout << json.str() << std::endl;
+  if (!o.out.empty()) {
+    const fs::path target(o.out);
+    if (target.has_parent_path())
+      fs::create_directories(target.parent_path());
+    std::ofstream out(target);
+    out << json.str() << '\n';
+    if (!out)
+      throw std::runtime_error("cannot write " + o.out);
+  }
+  return 0;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  Options options;
+  try {
+    options = parse(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "kdem_bench: %s\n%s", e.what(), usage);
+    return 2;
+  }
+  Kokkos::ScopeGuard kokkos(argc, argv);
+  try {
+    return run(options);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "kdem_bench: %s\n", e.what());
+    return 1;
+  }
+}
