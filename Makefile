@@ -31,6 +31,8 @@ KOKKOS_ROOT ?=
 KOKKOS_KERNELS_ROOT ?=
 CMAKE_ARGS ?=
 DEPS := scripts/deps.sh
+# Debian's interpreter, which has the python3-* packages that scripts/deps.sh installs.
+PYTHON ?= /usr/bin/python3
 MAKEFLAGS += --no-print-directory
 
 .PHONY: all deps deps-cuda deps-bench build test demo bench serial cuda cuda-sm80 \
@@ -105,10 +107,11 @@ test-cuda: cuda
 
 demo: build
 	build/openmp/bin/kdem run cases/hopper/hopper_spheres.yaml --out out/demo
-	python3 cases/hopper/plot_discharge.py out/demo
+	$(PYTHON) cases/hopper/plot_discharge.py out/demo
+	$(PYTHON) cases/hopper/render_frame.py out/demo/checkpoint.h5 --png out/demo/hopper.png
 
 bench: deps-bench build
-	python3 perf/run_bench.py
+	$(PYTHON) perf/run_bench.py
 
 # --- housekeeping -------------------------------------------------------------
 FORMAT_DIRS := $(wildcard src kernels shapes tests perf)

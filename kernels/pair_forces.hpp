@@ -22,6 +22,8 @@ void compute_sphere_pair_forces(const ParticleViews& p, PairList& list, const Co
         ContactInput in;
         in.geometry = sphere_sphere(xi, radius(i), xj, radius(j));
         if (!in.geometry.touching) {
+          // overlap(k) == 0 means every per-pair value is already zero (see PairList).
+          if (overlap(k) == 0) return;
           store3(spring, k, Vec3{});
           store3(rolling, k, Vec3{});
           store3(force_on_i, k, Vec3{});

@@ -20,7 +20,7 @@ struct PairList {
   Vec3View force_on_i;     // N, per pair, this step
   Vec3View torque_on_i;    // N m
   Vec3View torque_on_j;
-  ScalarView overlap;      // m, 0 when not touching
+  ScalarView overlap;      // m, 0 when not touching; then all per-pair values above are 0 too
 };
 
 template <class Visitor>
@@ -152,6 +152,7 @@ inline void transfer_pair_history(PairList& fresh, const PairList& old, const In
   auto old_start = old.row_start;
   auto old_partner = old.partner_id;
   auto old_spring = old.tangential_spring, old_rolling = old.rolling_torque;
+  auto overlap = fresh.overlap, old_overlap = old.overlap;
   Kokkos::parallel_for(
       "kdem::pair_history_transfer", RangePolicy(0, fresh.pair_count), KOKKOS_LAMBDA(int k) {
         const std::int64_t a = id(pair_i(k)), b = partner(k);
@@ -162,6 +163,7 @@ inline void transfer_pair_history(PairList& fresh, const PairList& old, const In
           sign = -1.0;
         }
         if (found < 0) return;
+        overlap(k) = old_overlap(found);
         for (int c = 0; c < 3; ++c) {
           spring(k, c) = sign * old_spring(found, c);
           rolling(k, c) = sign * old_rolling(found, c);

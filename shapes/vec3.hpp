@@ -6,7 +6,7 @@ namespace kdem {
 
 struct Vec3 {
   double x = 0, y = 0, z = 0;
-  KOKKOS_INLINE_FUNCTION Vec3() = default;
+  Vec3() = default;
   KOKKOS_INLINE_FUNCTION Vec3(double x_, double y_, double z_) : x(x_), y(y_), z(z_) {}
   KOKKOS_INLINE_FUNCTION double operator[](int k) const { return k == 0 ? x : (k == 1 ? y : z); }
 };
@@ -38,7 +38,7 @@ KOKKOS_INLINE_FUNCTION double norm(Vec3 a) { return math::sqrt(dot(a, a)); }
 // Unit quaternion (w, x, y, z), Hamilton convention, rotating body frame to world frame.
 struct Quat {
   double w = 1, x = 0, y = 0, z = 0;
-  KOKKOS_INLINE_FUNCTION Quat() = default;
+  Quat() = default;
   KOKKOS_INLINE_FUNCTION Quat(double w_, double x_, double y_, double z_)
       : w(w_), x(x_), y(y_), z(z_) {}
 };

@@ -23,11 +23,8 @@
 #include <utility>
 #include <vector>
 
-#if defined(__clang__)
-#pragma STDC FP_CONTRACT OFF
-#elif defined(__GNUC__)
-#pragma GCC optimize("fp-contract=off")
-#endif
+// Compiled with -ffp-contract=off (CMakeLists.txt): fused multiply-adds would change the bits of
+// the generated positions between machines and compilers.
 
 namespace kdem {
 

@@ -1,6 +1,7 @@
 // kdem command-line program.
 #include <Kokkos_Core.hpp>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -73,6 +74,9 @@ int main(int argc, char** argv) {
     std::fputs(usage, stderr);
     return 2;
   }
+  // Threads pinned to cores unless the user chose otherwise (Kokkos warns when unset).
+  setenv("OMP_PROC_BIND", "spread", 0);
+  setenv("OMP_PLACES", "threads", 0);
   Kokkos::ScopeGuard kokkos(argc, argv);
   if (args.command == "check") return kdem::check_scene(args.run.scene_path);
   return kdem::run_scene(args.run);

@@ -109,7 +109,6 @@ public:
   const std::string& path() const { return path_; }
   const YAML::Mark& mark() const { return mark_; }
   const SceneSource& source() const { return *source_; }
-  bool missing() const { return missing_; }
 
   bool is_scalar() const { return !missing_ && node_.IsScalar(); }
   bool is_sequence() const { return !missing_ && node_.IsSequence(); }
