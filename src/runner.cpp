@@ -60,6 +60,17 @@ void warn_about_time_step(const Engine& engine, bool quiet) {
                engine.time_step(), advice.suggested, advice.rayleigh, advice.hertz, advice.reference_speed);
 }
 
+// Particles placed across a wall (a region reaching through it) start with a large overlap
+// and are shot away; say so before the run rather than leave the user to wonder.
+void warn_about_initial_overlaps(const Engine& engine, bool quiet) {
+  const Diagnostics d = engine.diagnostics();
+  if (quiet || d.largest_overlap_ratio <= 0.05) return;
+  std::fprintf(stderr,
+               "warning: at the start particles overlap by up to %.0f%% of their radius (%d wall and %d "
+               "particle contacts); does a particle region reach through a wall?\n",
+               100 * d.largest_overlap_ratio, d.wall_contacts, d.pair_contacts);
+}
+
 class OutputWriter {
  public:
   OutputWriter(const fs::path& directory, const SceneConfig& scene, double dt)
@@ -174,6 +185,7 @@ int run_scene(const RunOptions& options) {
     return 2;
   }
   warn_about_time_step(*engine, options.quiet);
+  warn_about_initial_overlaps(*engine, options.quiet);
   try {
     const fs::path directory = scene.output.directory;
     OutputWriter output(directory, scene, engine->time_step());
