@@ -1,6 +1,12 @@
 // Head-on sphere-sphere and sphere-wall impacts against Hertz theory.
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+#include <vector>
+
 #include "scene_builders.hpp"
 #include "src/restitution.hpp"
 
@@ -8,6 +14,7 @@ namespace kdem::testing {
 namespace {
 
 struct ImpactRecord {
+  std::vector<std::array<double, 3>> history;  // time since first touch, overlap, force on 0
   double peak_overlap = 0;
   double peak_force = 0;   // from the velocity change of particle 0 over one step
   double duration = 0;     // s, with linear interpolation of the touching instants
@@ -26,8 +33,9 @@ ImpactRecord record_impact(Engine& engine, double reach, bool against_wall, doub
     const double gap = against_wall ? (wall_x - x0) - reach : (s.position[3] - x0) - reach;
     const double relative_speed = against_wall ? v0 : v0 - s.velocity[3];
     if (k > 0) {
-      const double mass_force = std::abs(v0 - previous_velocity) / dt;
+      const double mass_force = -(v0 - previous_velocity) / dt;  // repulsion pushes particle 0 to -x
       r.peak_force = std::max(r.peak_force, mass_force);
+      if (touch_start >= 0) r.history.push_back({engine.time() - touch_start, std::max(-gap, 0.0), mass_force});
       if (previous_gap >= 0 && gap < 0) touch_start = engine.time() - dt * gap / (gap - previous_gap);
       if (previous_gap < 0 && gap >= 0) {
         r.duration = engine.time() - dt * gap / (gap - previous_gap) - touch_start;
@@ -43,6 +51,17 @@ ImpactRecord record_impact(Engine& engine, double reach, bool against_wall, doub
   }
   ADD_FAILURE() << "impact did not end (touched: " << touched << ")";
   return r;
+}
+
+// With KDEM_VALIDATION_OUT set, the overlap and force histories go to CSV files there, for the
+// plots of docs/validation.md (cases/validation/plot_validation.py).
+void save_history(const std::string& name, const ImpactRecord& r, double mass) {
+  const char* directory = std::getenv("KDEM_VALIDATION_OUT");
+  if (!directory) return;
+  std::ofstream out(std::string(directory) + "/" + name + ".csv");
+  out << "time,overlap,force\n";
+  out.precision(12);
+  for (const auto& h : r.history) out << h[0] << "," << h[1] << "," << h[2] * mass << "\n";
 }
 
 class HertzImpactTest : public ::testing::TestWithParam<double> {};
@@ -80,6 +99,7 @@ TEST_P(HertzImpactTest, SphereWallMatchesHertzAndRestitution) {
   Engine engine(scene);
   engine.add_particles({sphere({-radius - 1e-6, 0, 0}, radius, {speed, 0, 0})});
   const ImpactRecord r = record_impact(engine, radius, true, 0.0);
+  save_history("hertz_sphere_wall_e" + std::to_string(int(std::lround(100 * e))), r, mass);
   EXPECT_NEAR(r.rebound_speed / speed, e, 0.01 * e);
   if (e == 1.0) {
     EXPECT_NEAR(r.peak_overlap, h.peak_overlap, 0.01 * h.peak_overlap);
