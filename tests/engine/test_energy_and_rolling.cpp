@@ -149,8 +149,7 @@ TEST(RollingResistance, SphereStopsAtTheModelsDistance) {
     const double deceleration = mu_r * g / 1.4;
     const double stop_time = v0 / deceleration;
     const double expected = 0.7 * v0 * v0 / (mu_r * g);
-    double farthest = 0, worst_slip = 0, speed_at_half = -1;
-    const auto half_steps = std::int64_t(0.5 * stop_time / engine.time_step());
+    double farthest = 0, worst_slip = 0, half_time = -1, speed_at_half = 0;
     const auto total_steps = std::int64_t(1.3 * stop_time / engine.time_step());
     for (std::int64_t k = 0; k < total_steps; k += 10) {
       engine.advance(10);
@@ -161,10 +160,19 @@ TEST(RollingResistance, SphereStopsAtTheModelsDistance) {
       farthest = std::max(farthest, along);
       if (engine.time() < 0.9 * stop_time)
         worst_slip = std::max(worst_slip, std::abs(v - radius * w));
-      if (speed_at_half < 0 && k + 10 >= half_steps)
-        speed_at_half = v;
+      if (half_time < 0 && engine.time() >= 0.5 * stop_time)
+        half_time = engine.time(), speed_at_half = v;
     }
-    EXPECT_NEAR(farthest, expected, 0.01 * expected);
+    // Stopping distance, 1e-3 relative (observed 3e-5). Model effects not in the formula are
+    // smaller: the rolling spring's build-up to its limit (rotation mu_r R F_n / k_r, i.e.
+    // 0.3 d / mu_r = 1e-4 of the distance), the lever arm R - d/2 (d / 2R = 2.5e-5), and
+    // sampling the farthest point every 10 steps near v = 0 (< 1e-8).
+    EXPECT_NEAR(farthest, expected, 1e-3 * expected);
+    // Constant deceleration: the speed half-way, 1e-3 relative for the same reasons.
+    EXPECT_NEAR(speed_at_half, v0 - deceleration * half_time, 1e-3 * v0);
+    // Rolling without slip: the contact point moves only by the tangential spring's small
+    // elastic oscillation (observed 1.4e-3 v0); a sliding sphere would show ~v0.
+    EXPECT_LT(worst_slip, 0.01 * v0);
   }
 }
 
@@ -299,9 +307,9 @@ TEST(ContactHistory, StaticFrictionOnAnInclineSurvivesRebuildsEveryStep) {
       half = positions_by_id(engine.snapshot());
   }
   EXPECT_LT(worst, 3 * static_shift);
-  // No creep in the second half either (the oscillation about the static position has decayed
-  // or is bounded by the same amplitude).
-  EXPECT_LT(largest_shift(half), 2 * static_shift);
+  // No creep in the second half: the oscillation about the static position is damped through
+  // the tangential dashpot (observed late movement: 3e-3 of the static shift).
+  EXPECT_LT(largest_shift(half), 0.5 * static_shift);
   EXPECT_GE(engine.diagnostics().list_builds, 20000);
   EXPECT_EQ(engine.diagnostics().wall_contacts, 4);
 }
