@@ -49,9 +49,10 @@ KOKKOS_INLINE_FUNCTION WallPose wall_pose_at(const WallMotion& m, double time) {
   return pose;
 }
 
-// Geometry of all wall elements, flattened. Triangles carry mesh topology so that a sphere
-// touching an edge or a vertex gets one contact, from one owning triangle, and only when the
-// centre lies in that feature's Voronoi region (a face contact of a neighbour wins otherwise).
+// Geometry of all wall elements, flattened. Triangles carry mesh topology so that a sphere near
+// a mesh gets exactly one contact per surface patch it touches: every centre position is
+// claimed by one feature (a face, an edge or a vertex) of the mesh, through tests that read the
+// same stored numbers from whichever triangle evaluates them (see claimed_triangle_feature).
 struct WallElements {
   int count = 0;
   IndexView kind;
@@ -59,12 +60,18 @@ struct WallElements {
   DeviceView<double* [9]> geometry;  // plane: origin, normal | cylinder: base, axis, radius,
                                      // length | triangle: a, b, c (reference frame)
   DeviceView<int* [6]> features;     // triangle: edge ids ab, bc, ca; vertex ids a, b, c
-  IndexView edge_owner;              // element that reports an edge contact
-  IndexView edge_sides;              // 1 or 2 adjacent triangles
-  DeviceView<double* [6]> edge_outward;  // in-plane outward direction from each adjacent triangle
+  double feature_tolerance = 0;      // m, width of the band that decides between features
+  IndexView edge_owner;              // lowest-indexed adjacent triangle: the one that reports
+  IndexView edge_sides;              // 1 or 2 adjacent triangles (side 0 is the owner)
+  DeviceView<double* [6]> edge_outward;  // per side: unit in-plane direction away from it
+  DeviceView<int* [2]> edge_vertices;
+  Vec3View edge_direction;           // unit, from edge_vertices 0 to 1
   IndexView vertex_owner;
+  Vec3View vertex_position;
   IndexView vertex_edge_start;       // CSR over vertices
   Vec3View vertex_edge_direction;    // unit vectors from the vertex along its edges
+  IndexView vertex_triangle_start;   // CSR over vertices
+  IndexView vertex_triangle;         // elements around the vertex
 };
 
 struct WallSet {
@@ -102,26 +109,82 @@ KOKKOS_INLINE_FUNCTION SurfaceQuery cylinder_query(const WallElements& el, int e
   return q;
 }
 
-// True when a triangle's closest feature is one this triangle must report (see WallElements).
-KOKKOS_INLINE_FUNCTION bool triangle_reports(const WallElements& el, int e, const SurfaceQuery& q, Vec3 p) {
-  if (q.feature == 0) return true;
-  const Vec3 to_centre = p - q.point;
-  const double tolerance = 1e-9 * norm(to_centre);
-  if (q.feature <= 3) {
-    const int edge = el.features(e, q.feature - 1);
-    if (el.edge_owner(edge) != e) return false;
-    for (int side = 0; side < el.edge_sides(edge); ++side) {
-      const Vec3 outward{el.edge_outward(edge, 3 * side), el.edge_outward(edge, 3 * side + 1),
-                         el.edge_outward(edge, 3 * side + 2)};
-      if (dot(to_centre, outward) < -tolerance) return false;
-    }
-    return true;
+KOKKOS_INLINE_FUNCTION Vec3 edge_outward_of(const WallElements& el, int edge, int side) {
+  return {el.edge_outward(edge, 3 * side), el.edge_outward(edge, 3 * side + 1), el.edge_outward(edge, 3 * side + 2)};
+}
+
+// Signed in-plane distance of p's projection beyond `edge`, seen from the triangle on `side`.
+KOKKOS_INLINE_FUNCTION double beyond_edge(const WallElements& el, int edge, int side, Vec3 p) {
+  return dot(p - load3(el.vertex_position, el.edge_vertices(edge, 0)), edge_outward_of(el, edge, side));
+}
+
+// p projects into triangle e deeper than the tolerance from each of its edges.
+KOKKOS_INLINE_FUNCTION bool face_claims(const WallElements& el, int e, Vec3 p) {
+  for (int k = 0; k < 3; ++k) {
+    const int edge = el.features(e, k);
+    const int side = el.edge_owner(edge) == e ? 0 : 1;
+    if (!(beyond_edge(el, edge, side, p) < -el.feature_tolerance)) return false;
   }
-  const int vertex = el.features(e, 3 + q.feature - 4);
-  if (el.vertex_owner(vertex) != e) return false;
-  for (int k = el.vertex_edge_start(vertex); k < el.vertex_edge_start(vertex + 1); ++k)
-    if (dot(to_centre, load3(el.vertex_edge_direction, k)) > tolerance) return false;
   return true;
+}
+
+// p projects onto no adjacent face, and along the edge further than the tolerance from its ends.
+KOKKOS_INLINE_FUNCTION bool edge_claims(const WallElements& el, int edge, Vec3 p) {
+  const double tol = el.feature_tolerance;
+  for (int side = 0; side < el.edge_sides(edge); ++side)
+    if (beyond_edge(el, edge, side, p) < -tol) return false;
+  const Vec3 d = load3(el.edge_direction, edge);
+  const Vec3 a = load3(el.vertex_position, el.edge_vertices(edge, 0));
+  const Vec3 b = load3(el.vertex_position, el.edge_vertices(edge, 1));
+  return dot(p - a, d) > tol && dot(p - b, -d) > tol;
+}
+
+// The fallback: p projects beyond no edge leaving the vertex and into no face around it.
+KOKKOS_INLINE_FUNCTION bool vertex_claims(const WallElements& el, int vertex, Vec3 p) {
+  const Vec3 v = load3(el.vertex_position, vertex);
+  for (int k = el.vertex_edge_start(vertex); k < el.vertex_edge_start(vertex + 1); ++k)
+    if (dot(p - v, load3(el.vertex_edge_direction, k)) > el.feature_tolerance) return false;
+  for (int k = el.vertex_triangle_start(vertex); k < el.vertex_triangle_start(vertex + 1); ++k)
+    if (face_claims(el, el.vertex_triangle(k), p)) return false;
+  return true;
+}
+
+KOKKOS_INLINE_FUNCTION SurfaceQuery point_feature_query(Vec3 point, Vec3 p, Vec3 fallback_normal, int feature) {
+  SurfaceQuery q;
+  q.point = point;
+  q.feature = feature;
+  const Vec3 d = p - point;
+  q.signed_distance = norm(d);
+  q.free_normal = q.signed_distance > 0 ? (1.0 / q.signed_distance) * d : fallback_normal;
+  return q;
+}
+
+// The feature of triangle e that claims p, if e reports it: its face, or an edge or vertex
+// that e owns. A centre is claimed by exactly one feature of a mesh (up to the edge cases of a
+// tolerance band at obtuse corners, where it may be claimed by none), and the owner of an edge
+// or vertex is unique, so a sphere gets one contact per feature it touches.
+KOKKOS_INLINE_FUNCTION SurfaceQuery claimed_triangle_feature(const WallElements& el, int e, Vec3 p, bool& applies) {
+  const Vec3 a = geometry_vec(el.geometry, e, 0), b = geometry_vec(el.geometry, e, 3), c = geometry_vec(el.geometry, e, 6);
+  const Vec3 normal_raw = cross(b - a, c - a);
+  const Vec3 normal = (1.0 / norm(normal_raw)) * normal_raw;
+  const double height = dot(p - a, normal);
+  const Vec3 facing = height >= 0 ? normal : -normal;
+  applies = true;
+  if (face_claims(el, e, p)) return point_feature_query(p - height * normal, p, facing, 0);
+  for (int k = 0; k < 3; ++k) {
+    const int edge = el.features(e, k);
+    if (el.edge_owner(edge) != e || !edge_claims(el, edge, p)) continue;
+    const Vec3 start = load3(el.vertex_position, el.edge_vertices(edge, 0));
+    const Vec3 d = load3(el.edge_direction, edge);
+    return point_feature_query(start + dot(p - start, d) * d, p, facing, 1 + k);
+  }
+  for (int k = 0; k < 3; ++k) {
+    const int vertex = el.features(e, 3 + k);
+    if (el.vertex_owner(vertex) != e || !vertex_claims(el, vertex, p)) continue;
+    return point_feature_query(load3(el.vertex_position, vertex), p, facing, 4 + k);
+  }
+  applies = false;
+  return SurfaceQuery{};
 }
 
 // Closest point of element e to the reference-frame point p. `applies` is false when the
@@ -133,12 +196,8 @@ KOKKOS_INLINE_FUNCTION SurfaceQuery query_element(const WallElements& el, int e,
       return plane_query(geometry_vec(el.geometry, e, 0), geometry_vec(el.geometry, e, 3), p);
     case cylinder_element:
       return cylinder_query(el, e, p, applies);
-    default: {
-      const SurfaceQuery q = triangle_query(geometry_vec(el.geometry, e, 0), geometry_vec(el.geometry, e, 3),
-                                            geometry_vec(el.geometry, e, 6), p);
-      applies = triangle_reports(el, e, q, p);
-      return q;
-    }
+    default:
+      return claimed_triangle_feature(el, e, p, applies);
   }
 }
 

@@ -167,6 +167,12 @@ void Engine::State::setup_walls() {
   el.edge_owner = upload<int>("wall_edge_owner", table.edge_owner);
   el.edge_sides = upload<int>("wall_edge_sides", table.edge_sides);
   el.edge_outward = upload_rows<DeviceView<double* [6]>>("wall_edge_outward", table.edge_outward);
+  el.feature_tolerance = table.feature_tolerance;
+  el.edge_vertices = upload_rows<DeviceView<int* [2]>>("wall_edge_vertices", table.edge_vertices);
+  el.edge_direction = upload_rows<Vec3View>("wall_edge_direction", table.edge_direction);
+  el.vertex_position = upload_rows<Vec3View>("wall_vertex_position", table.vertex_position);
+  el.vertex_triangle_start = upload<int>("wall_vertex_triangle_start", table.vertex_triangle_start);
+  el.vertex_triangle = upload<int>("wall_vertex_triangle", table.vertex_triangle);
   el.vertex_owner = upload<int>("wall_vertex_owner", table.vertex_owner);
   el.vertex_edge_start = upload<int>("wall_vertex_edge_start", table.vertex_edge_start);
   el.vertex_edge_direction = upload_rows<Vec3View>("wall_vertex_edge_direction", table.vertex_edge_direction);

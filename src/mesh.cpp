@@ -127,8 +127,11 @@ MeshTopology build_topology(const TriangleMesh& mesh) {
       std::copy(out.begin(), out.end(), outward.begin() + 3 * side);
     }
     topo.edge_outward.push_back(outward);
-    topo.vertex_edge_directions[a].push_back(unit(minus(mesh.points[b], mesh.points[a])));
-    topo.vertex_edge_directions[b].push_back(unit(minus(mesh.points[a], mesh.points[b])));
+    const Point direction = unit(minus(mesh.points[b], mesh.points[a]));
+    topo.edge_direction.push_back(direction);
+    // Bit for bit the negation of `direction`: edge and vertex tests must read the same numbers.
+    topo.vertex_edge_directions[a].push_back(direction);
+    topo.vertex_edge_directions[b].push_back({-direction[0], -direction[1], -direction[2]});
   }
   return topo;
 }

@@ -123,13 +123,23 @@ void add_mesh(WallElementTable& t, SurfaceBuilder& s, int wall, const WallConfig
     t.edge_owner.push_back(first_element + *std::min_element(adjacent.begin(), adjacent.end()));
     t.edge_sides.push_back(int(std::min<std::size_t>(2, adjacent.size())));
     t.edge_outward.push_back(topo.edge_outward[e]);
+    t.edge_vertices.push_back({first_vertex + topo.edge_vertices[e][0], first_vertex + topo.edge_vertices[e][1]});
+    t.edge_direction.push_back(topo.edge_direction[e]);
   }
   for (std::size_t v = 0; v < mesh.points.size(); ++v) {
     const auto& incident = topo.vertex_triangles[v];
     t.vertex_owner.push_back(incident.empty() ? -1 : first_element + *std::min_element(incident.begin(), incident.end()));
     for (const auto& d : topo.vertex_edge_directions[v]) t.vertex_edge_direction.push_back(d);
     t.vertex_edge_start.push_back(int(t.vertex_edge_direction.size()));
+    for (int triangle : incident) t.vertex_triangle.push_back(first_element + triangle);
+    t.vertex_triangle_start.push_back(int(t.vertex_triangle.size()));
+    t.vertex_position.push_back(mesh.points[v]);
   }
+  // Features are told apart to 1e-9 of the mesh size: far below any overlap that matters, far
+  // above the rounding of the tests that compare them.
+  double extent = 0;
+  for (const auto& p : mesh.points) extent = std::max(extent, std::sqrt(dot(sub(p, mesh.points[0]), sub(p, mesh.points[0]))));
+  t.feature_tolerance = std::max(t.feature_tolerance, 1e-9 * extent);
   for (const auto& p : mesh.points) s.add_point(p);
   for (const auto& tri : mesh.triangles) s.triangles.insert(s.triangles.end(), tri.begin(), tri.end());
 }

@@ -14,10 +14,13 @@ struct WallElementTable {
   std::vector<int> wall;
   std::vector<std::array<double, 9>> geometry;
   std::vector<std::array<int, 6>> features;
+  double feature_tolerance = 0;
   std::vector<int> edge_owner, edge_sides;
   std::vector<std::array<double, 6>> edge_outward;
-  std::vector<int> vertex_owner, vertex_edge_start{0};
-  std::vector<std::array<double, 3>> vertex_edge_direction;
+  std::vector<std::array<int, 2>> edge_vertices;
+  std::vector<std::array<double, 3>> edge_direction;
+  std::vector<int> vertex_owner, vertex_edge_start{0}, vertex_triangle_start{0}, vertex_triangle;
+  std::vector<std::array<double, 3>> vertex_position, vertex_edge_direction;
   // For drawing: every wall's surface as triangles in its reference frame.
   std::vector<std::vector<double>> surface_points;
   std::vector<std::vector<int>> surface_triangles;

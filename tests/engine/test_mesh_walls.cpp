@@ -265,19 +265,11 @@ TEST(MeshWall, ConvexVertexBouncesAlongTheContactLine) {
   check_convex(pyramid(0.05, 0.05), unit({0.1, 0.15, 1.0}));
 }
 
-// ENGINE BUG (reported, not yet fixed; remove the GTEST_SKIP lines below once it is): a sphere
-// whose centre lies within 1e-9 of its distance from a shared mesh edge (or vertex), on the
-// side of a triangle that does not own that feature, gets two (up to four at a vertex) wall
-// contacts and twice the force. In kernels/walls.hpp, triangle_reports() lets every triangle
-// report a face contact unconditionally (feature 0) while the owner of the neighbouring edge
-// or vertex also reports it when the centre is within `tolerance` = 1e-9 |p - q| outside that
-// feature's Voronoi region; both contacts are then applied.
-constexpr const char* shared_feature_bug =
-    "engine bug: a face contact and the neighbouring edge/vertex owner's contact are both "
-    "applied within the 1e-9 tolerance band (kernels/walls.hpp, triangle_reports)";
-
+// Every centre position is claimed by exactly one mesh feature (kernels/walls.hpp,
+// claimed_triangle_feature), also within the tolerance band that separates faces, edges and
+// vertices: these tests place spheres inside that band.
 // Resting on a flat mesh under gravity: the number of contacts when the centre sits a hair's
-// breadth (1e-13 .. 3e-12 m, i.e. inside the 1e-9 |p - q| = 5e-12 m band) off the shared
+// breadth (1e-13 .. 3e-12 m, i.e. inside the band of 1e-9 of the mesh size) off the shared
 // diagonal edge, on either side, and off the centre vertex of a fan, in 24 directions.
 int contacts_when_resting_at(const std::string& file, double x, double y) {
   const MaterialConfig m = material("steel", 7800, 2e11, 0.3, 0.5, 0.0);
@@ -294,7 +286,6 @@ int contacts_when_resting_at(const std::string& file, double x, double y) {
 }
 
 TEST(MeshWall, OneContactNextToASharedEdgeOrVertex) {
-  GTEST_SKIP() << shared_feature_bug;
   MeshFolder folder;
   const std::string square = folder.write("square", flat_square(0.05));
   const std::string fan = folder.write("fan", flat_fan(0.05));
@@ -317,7 +308,6 @@ TEST(MeshWall, OneContactNextToASharedEdgeOrVertex) {
 // the centre on the edge at step 15000 up to the round-off of the position updates (~1e-12 m),
 // the case that reveals the bug above (there: 2 contacts and a vertical kick of g dt).
 TEST(MeshWall, SphereSlidesAcrossASharedEdgeWithoutABump) {
-  GTEST_SKIP() << shared_feature_bug;
   MeshFolder folder;
   const std::string file = folder.write("flat", flat_square(0.05));
   const MaterialConfig m = material("steel", 7800, 2e11, 0.3, 0.5, 0.0);
