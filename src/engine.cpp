@@ -10,6 +10,7 @@
 #include "../kernels/pair_forces.hpp"
 #include "engine_state.hpp"
 #include "generate.hpp"
+#include "host_copy.hpp"
 #include "restitution.hpp"
 #include "wall_builder.hpp"
 
@@ -39,30 +40,6 @@ PairCoefficients coefficients_for(const MaterialConfig& a, const MaterialConfig&
   }
   c.damping = damping_for_restitution(restitution);
   return c;
-}
-
-double largest_source_radius(const ParticleSourceConfig& s) {
-  const SizeDistributionConfig& d = s.sizes;
-  switch (d.kind) {
-    case SizeDistributionConfig::Kind::Monodisperse:
-      return d.radius;
-    case SizeDistributionConfig::Kind::Discrete:
-      return d.radii.empty() ? 0.0 : *std::max_element(d.radii.begin(), d.radii.end());
-    default:
-      return d.max_radius;
-  }
-}
-
-double smallest_source_radius(const ParticleSourceConfig& s) {
-  const SizeDistributionConfig& d = s.sizes;
-  switch (d.kind) {
-    case SizeDistributionConfig::Kind::Monodisperse:
-      return d.radius;
-    case SizeDistributionConfig::Kind::Discrete:
-      return d.radii.empty() ? 0.0 : *std::min_element(d.radii.begin(), d.radii.end());
-    default:
-      return d.min_radius;
-  }
 }
 
 template <class T, class Host>
@@ -147,8 +124,8 @@ void Engine::State::setup_domain() {
   domain_min = lo;
   domain_max = hi;
   for (const ParticleSourceConfig& src : scene.sources) {
-    largest_radius = std::max(largest_radius, largest_source_radius(src));
-    smallest_radius = std::min(smallest_radius, smallest_source_radius(src));
+    largest_radius = std::max(largest_radius, largest_possible_radius(src.sizes));
+    smallest_radius = std::min(smallest_radius, smallest_possible_radius(src.sizes));
   }
   skin = scene.skin;
 }
@@ -460,21 +437,6 @@ Diagnostics Engine::diagnostics() const {
   d.discharged_count = s.discharged_count;
   d.list_builds = s.list_builds;
   return d;
-}
-
-template <class View>
-std::vector<typename View::non_const_value_type> flatten_to_host(const View& view, int rows) {
-  auto mirror = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), view);
-  const int columns = View::rank == 1 ? 1 : int(view.extent(1));
-  std::vector<typename View::non_const_value_type> out(std::size_t(rows) * columns);
-  for (int i = 0; i < rows; ++i)
-    for (int c = 0; c < columns; ++c) {
-      if constexpr (View::rank == 1)
-        out[i] = mirror(i);
-      else
-        out[std::size_t(i) * columns + c] = mirror(i, c);
-    }
-  return out;
 }
 
 ParticleSnapshot Engine::State::make_snapshot() const {

@@ -152,6 +152,8 @@ void check_sizes(const SizeDistributionConfig& sizes) {
   throw_bad_sizes("unknown kind");
 }
 
+} // namespace
+
 // The largest radius draw_radius can return.
 double largest_possible_radius(const SizeDistributionConfig& sizes) {
   using Kind = SizeDistributionConfig::Kind;
@@ -181,6 +183,8 @@ double smallest_possible_radius(const SizeDistributionConfig& sizes) {
   }
   return 0;
 }
+
+namespace {
 
 double draw_truncated_gaussian(const SizeDistributionConfig& sizes, std::mt19937_64& rng) {
   if (sizes.std_radius == 0)

@@ -78,10 +78,41 @@ def plot_hertz(data_dir, image_dir):
     return out
 
 
+def plot_chung_ooi(data_dir, image_dir):
+    files = sorted(glob.glob(os.path.join(data_dir, "chung_ooi_test4_*.csv")))
+    if not files:
+        return None
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    for path in files:
+        name = os.path.basename(path)[len("chung_ooi_test4_"):-4]
+        d = read(path)
+        x = d["incidence"]
+        line, = axes[0].plot(x, d["recoil"], "o", label="kdem, " + name)
+        sliding = [(a, b) for a, b in zip(x, d["sliding_recoil"]) if a > 3.5 * 2 * 1.0]
+        axes[0].plot([a for a, _ in sliding], [b for _, b in sliding], "-", color=line.get_color(), alpha=0.5,
+                     label="Coulomb sliding theory, " + name)
+        axes[1].plot(x, d["spin"], "o", color=line.get_color(), label="kdem, " + name)
+        axes[1].plot(x, d["sliding_spin"], "-", color=line.get_color(), alpha=0.5, label="sliding theory, " + name)
+    axes[0].set_xscale("log")
+    axes[0].set_xlabel("normalised incidence  v_t / (mu v_n)")
+    axes[0].set_ylabel("normalised recoil  u' / (mu v_n)")
+    axes[0].axhline(0, color="grey", lw=0.5)
+    axes[0].legend(fontsize=7)
+    axes[1].set_xscale("log")
+    axes[1].set_xlabel("normalised incidence  v_t / (mu v_n)")
+    axes[1].set_ylabel("normalised spin  R w' / (mu v_n)")
+    axes[1].legend(fontsize=7)
+    fig.suptitle("Chung & Ooi test 5 set-up (v_n = 5 m/s, mu = 0.3, e = 1): oblique impacts on a plane")
+    fig.tight_layout()
+    out = os.path.join(image_dir, "validation_oblique.png")
+    fig.savefig(out, dpi=120)
+    return out
+
+
 def main():
     data_dir, image_dir = sys.argv[1], sys.argv[2]
     os.makedirs(image_dir, exist_ok=True)
-    for made in [plot_hertz(data_dir, image_dir)]:
+    for made in [plot_hertz(data_dir, image_dir), plot_chung_ooi(data_dir, image_dir)]:
         if made:
             print("wrote", made)
 

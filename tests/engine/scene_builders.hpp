@@ -1,6 +1,10 @@
 #pragma once
 // Small programmatic scenes for engine tests.
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <memory>
+#include <string>
 
 #include "src/engine.hpp"
 #include "src/scene.hpp"
@@ -75,6 +79,17 @@ inline HertzImpact hertz_impact(double effective_mass, double effective_radius, 
 inline double effective_youngs(const MaterialConfig& a, const MaterialConfig& b) {
   return 1.0 / ((1 - a.poisson_ratio * a.poisson_ratio) / a.youngs_modulus +
                 (1 - b.poisson_ratio * b.poisson_ratio) / b.youngs_modulus);
+}
+
+// With KDEM_VALIDATION_OUT set, a CSV file there (header written) for the plots of
+// docs/validation.md (cases/validation/plot_validation.py); otherwise null.
+inline std::unique_ptr<std::ofstream> validation_csv(const std::string& name, const std::string& header) {
+  const char* directory = std::getenv("KDEM_VALIDATION_OUT");
+  if (!directory) return nullptr;
+  auto file = std::make_unique<std::ofstream>(std::string(directory) + "/" + name + ".csv");
+  file->precision(12);
+  *file << header << "\n";
+  return file;
 }
 
 }  // namespace kdem::testing

@@ -457,8 +457,16 @@ TEST_P(ChungOoiTest4, ObliqueImpactAtConstantNormalSpeed) {
   const MaterialConfig m = material(c.name, c.density, c.youngs, c.poisson, e, mu);
   const double no_slip = check_no_slip_limit(c, radius, 0.1, vn, e);
   double lowest_recoil = 1e300, lowest_at = 0;
+  auto csv = validation_csv(std::string("chung_ooi_test4_") + c.name,
+                            "incidence,recoil,spin,sliding_recoil,sliding_spin,no_slip_recoil");
   for (double vt : {0.1, 0.3, 0.5, 1.0, 2.0, 5.0, 10.0, 15.0, 20.0, 30.0, 50.0, 70.0}) {
     const Oblique o = oblique_impact(m, radius, vt, vn);
+    if (csv) {
+      const SlidingPrediction p = sliding_prediction(m, radius, vt, vn, mu, e);
+      *csv << vt / (mu * vn) << "," << o.contact_point_after / (mu * vn) << ","
+           << radius * o.spin_after / (mu * vn) << "," << p.contact_point_after / (mu * vn) << ","
+           << radius * p.spin_after / (mu * vn) << "," << no_slip * vt / (mu * vn) << "\n";
+    }
     const std::string label = std::string(c.name) + " v_t = " + std::to_string(vt);
     check_oblique(o, m, radius, mu, e, label);
     // Small incidence: the no-slip limit (a linear problem, so u' / u does not depend on v_t;

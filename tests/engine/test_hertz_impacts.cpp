@@ -53,15 +53,10 @@ ImpactRecord record_impact(Engine& engine, double reach, bool against_wall, doub
   return r;
 }
 
-// With KDEM_VALIDATION_OUT set, the overlap and force histories go to CSV files there, for the
-// plots of docs/validation.md (cases/validation/plot_validation.py).
 void save_history(const std::string& name, const ImpactRecord& r, double mass) {
-  const char* directory = std::getenv("KDEM_VALIDATION_OUT");
-  if (!directory) return;
-  std::ofstream out(std::string(directory) + "/" + name + ".csv");
-  out << "time,overlap,force\n";
-  out.precision(12);
-  for (const auto& h : r.history) out << h[0] << "," << h[1] << "," << h[2] * mass << "\n";
+  auto out = validation_csv(name, "time,overlap,force");
+  if (!out) return;
+  for (const auto& h : r.history) *out << h[0] << "," << h[1] << "," << h[2] * mass << "\n";
 }
 
 class HertzImpactTest : public ::testing::TestWithParam<double> {};
