@@ -1,8 +1,8 @@
 #pragma once
 // Uniform cell grid, and the deterministic sort of particles by cell (count -> scan -> fill,
 // then ids ordered within each cell so that the result does not depend on thread scheduling).
-#include "particles.hpp"
 #include "../shapes/math.hpp"
+#include "particles.hpp"
 #include "view_access.hpp"
 
 namespace kdem {
@@ -39,7 +39,8 @@ inline CellGrid make_cell_grid(const double lo[3], const double hi[3], double mi
       grid.dims[a] = 1 + static_cast<int>(extent / grid.cell_size);
       total *= grid.dims[a];
     }
-    if (total <= max_cells) return grid;
+    if (total <= max_cells)
+      return grid;
     grid.cell_size *= 1.25;
   }
 }
@@ -47,7 +48,7 @@ inline CellGrid make_cell_grid(const double lo[3], const double hi[3], double mi
 // Particles ordered by cell; `cell_start(c)..cell_start(c+1)` are the particles of cell c.
 struct CellBins {
   CellGrid grid;
-  IndexView cell_start;  // cell_count + 1
+  IndexView cell_start; // cell_count + 1
 };
 
 inline IndexView exclusive_scan_with_total(const IndexView& counts, int& total) {
@@ -56,12 +57,15 @@ inline IndexView exclusive_scan_with_total(const IndexView& counts, int& total) 
   Kokkos::parallel_scan(
       "kdem::exclusive_scan", RangePolicy(0, n), KOKKOS_LAMBDA(int k, int& running, bool final) {
         const int value = counts(k);
-        if (final) offsets(k) = running;
+        if (final)
+          offsets(k) = running;
         running += value;
-        if (final && k == n - 1) offsets(n) = running;
+        if (final && k == n - 1)
+          offsets(n) = running;
       });
   total = 0;
-  if (n > 0) Kokkos::deep_copy(total, Kokkos::subview(offsets, n));
+  if (n > 0)
+    Kokkos::deep_copy(total, Kokkos::subview(offsets, n));
   return offsets;
 }
 
@@ -92,7 +96,7 @@ inline CellBins sort_particles_by_cell(ParticleViews& p, const CellGrid& grid) {
   Kokkos::parallel_for(
       "kdem::bin_order_by_id", RangePolicy(0, cells), KOKKOS_LAMBDA(int c) {
         const int begin = cell_start(c), end = cell_start(c + 1);
-        for (int a = begin + 1; a < end; ++a) {  // insertion sort: cells hold few particles
+        for (int a = begin + 1; a < end; ++a) { // insertion sort: cells hold few particles
           const int moving = order(a);
           int b = a - 1;
           while (b >= begin && id(order(b)) > id(moving)) {
@@ -106,4 +110,4 @@ inline CellBins sort_particles_by_cell(ParticleViews& p, const CellGrid& grid) {
   return CellBins{grid, cell_start};
 }
 
-}  // namespace kdem
+} // namespace kdem

@@ -14,18 +14,21 @@ inline double max_displacement_squared(const ParticleViews& p) {
       "kdem::max_displacement", RangePolicy(0, p.count),
       KOKKOS_LAMBDA(int i, double& m) {
         const double d2 = norm2(load3(x, i) - load3(x0, i));
-        if (d2 > m) m = d2;
+        if (d2 > m)
+          m = d2;
       },
       Kokkos::Max<double>(result));
   return math::max(result, 0.0);
 }
 
-inline void remember_build_positions(const ParticleViews& p) { Kokkos::deep_copy(p.position_at_build, p.position); }
+inline void remember_build_positions(const ParticleViews& p) {
+  Kokkos::deep_copy(p.position_at_build, p.position);
+}
 
 struct EnergySums {
-  double translational = 0;  // J
-  double rotational = 0;     // J
-  double potential = 0;      // J, gravitational, relative to the origin
+  double translational = 0; // J
+  double rotational = 0;    // J
+  double potential = 0;     // J, gravitational, relative to the origin
 };
 
 inline EnergySums kinetic_and_potential_energy(const ParticleViews& p, Vec3 gravity) {
@@ -46,7 +49,7 @@ inline EnergySums kinetic_and_potential_energy(const ParticleViews& p, Vec3 grav
 
 struct ContactStatistics {
   int contacts = 0;
-  double largest_overlap_ratio = 0;  // overlap / smaller radius
+  double largest_overlap_ratio = 0; // overlap / smaller radius
 };
 
 inline ContactStatistics pair_contact_statistics(const ParticleViews& p, const PairList& list) {
@@ -58,16 +61,19 @@ inline ContactStatistics pair_contact_statistics(const ParticleViews& p, const P
   Kokkos::parallel_reduce(
       "kdem::pair_contact_statistics", RangePolicy(0, list.pair_count),
       KOKKOS_LAMBDA(int k, int& count, double& m) {
-        if (overlap(k) <= 0) return;
+        if (overlap(k) <= 0)
+          return;
         ++count;
         const double ratio = overlap(k) / math::min(radius(pair_i(k)), radius(pair_j(k)));
-        if (ratio > m) m = ratio;
+        if (ratio > m)
+          m = ratio;
       },
       contacts, Kokkos::Max<double>(largest));
   return {contacts, math::max(largest, 0.0)};
 }
 
-inline ContactStatistics wall_contact_statistics(const ParticleViews& p, const WallContactList& list) {
+inline ContactStatistics wall_contact_statistics(const ParticleViews& p,
+                                                 const WallContactList& list) {
   auto overlap = list.overlap;
   auto row_start = list.row_start;
   auto radius = p.radius;
@@ -77,9 +83,11 @@ inline ContactStatistics wall_contact_statistics(const ParticleViews& p, const W
       "kdem::wall_contact_statistics", RangePolicy(0, p.count),
       KOKKOS_LAMBDA(int i, int& count, double& m) {
         for (int k = row_start(i); k < row_start(i + 1); ++k) {
-          if (overlap(k) <= 0) continue;
+          if (overlap(k) <= 0)
+            continue;
           ++count;
-          if (overlap(k) / radius(i) > m) m = overlap(k) / radius(i);
+          if (overlap(k) / radius(i) > m)
+            m = overlap(k) / radius(i);
         }
       },
       contacts, Kokkos::Max<double>(largest));
@@ -90,9 +98,10 @@ struct OutletBox {
   double min[3], max[3];
 };
 
-// Marks particles whose centre lies in any outlet box (keep(i) = 0), returns how many and their mass.
-inline int mark_discharged(const ParticleViews& p, const DeviceView<OutletBox*>& outlets, int outlet_count,
-                           IndexView& keep, double& discharged_mass) {
+// Marks particles whose centre lies in any outlet box (keep(i) = 0), returns how many and their
+// mass.
+inline int mark_discharged(const ParticleViews& p, const DeviceView<OutletBox*>& outlets,
+                           int outlet_count, IndexView& keep, double& discharged_mass) {
   auto x = p.position;
   auto mass = p.mass;
   int removed = 0;
@@ -110,7 +119,8 @@ inline int mark_discharged(const ParticleViews& p, const DeviceView<OutletBox*>&
         }
         keep(i) = 1 - inside;
         count += inside;
-        if (inside) m += mass(i);
+        if (inside)
+          m += mass(i);
       },
       removed, removed_mass);
   discharged_mass = removed_mass;
@@ -123,9 +133,10 @@ inline IndexView kept_indices(const IndexView& keep, int& kept) {
   IndexView source("kept_indices", kept);
   Kokkos::parallel_for(
       "kdem::kept_indices", RangePolicy(0, static_cast<int>(keep.extent(0))), KOKKOS_LAMBDA(int i) {
-        if (keep(i)) source(offsets(i)) = i;
+        if (keep(i))
+          source(offsets(i)) = i;
       });
   return source;
 }
 
-}  // namespace kdem
+} // namespace kdem

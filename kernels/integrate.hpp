@@ -37,4 +37,4 @@ inline void kick(const ParticleViews& p, double dt) {
       });
 }
 
-}  // namespace kdem
+} // namespace kdem

@@ -6,8 +6,8 @@
 namespace kdem {
 
 template <bool RollingResistance>
-void compute_sphere_pair_forces(const ParticleViews& p, PairList& list, const CoefficientTable& table,
-                                double dt) {
+void compute_sphere_pair_forces(const ParticleViews& p, PairList& list,
+                                const CoefficientTable& table, double dt) {
   auto x = p.position, v = p.velocity, w = p.angular_velocity;
   auto radius = p.radius, mass = p.mass;
   auto material = p.material;
@@ -23,7 +23,8 @@ void compute_sphere_pair_forces(const ParticleViews& p, PairList& list, const Co
         in.geometry = sphere_sphere(xi, radius(i), xj, radius(j));
         if (!in.geometry.touching) {
           // overlap(k) == 0 means every per-pair value is already zero (see PairList).
-          if (overlap(k) == 0) return;
+          if (overlap(k) == 0)
+            return;
           store3(spring, k, Vec3{});
           store3(rolling, k, Vec3{});
           store3(force_on_i, k, Vec3{});
@@ -74,4 +75,4 @@ inline void gather_pair_forces(const ParticleViews& p, const PairList& list) {
       });
 }
 
-}  // namespace kdem
+} // namespace kdem

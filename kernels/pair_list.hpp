@@ -10,21 +10,20 @@ namespace kdem {
 
 struct PairList {
   int pair_count = 0;
-  IndexView row_start;      // particle_count + 1: pairs (i, j > i) are owned by i
+  IndexView row_start; // particle_count + 1: pairs (i, j > i) are owned by i
   IndexView pair_i, pair_j;
-  IdView partner_id;        // stable id of j, the key for history transfer
-  IndexView reverse_start;  // particle_count + 1
-  IndexView reverse_pair;   // pairs in which the particle is j
-  Vec3View tangential_spring;  // history, see ContactHistory
+  IdView partner_id;          // stable id of j, the key for history transfer
+  IndexView reverse_start;    // particle_count + 1
+  IndexView reverse_pair;     // pairs in which the particle is j
+  Vec3View tangential_spring; // history, see ContactHistory
   Vec3View rolling_torque;
-  Vec3View force_on_i;     // N, per pair, this step
-  Vec3View torque_on_i;    // N m
+  Vec3View force_on_i;  // N, per pair, this step
+  Vec3View torque_on_i; // N m
   Vec3View torque_on_j;
-  ScalarView overlap;      // m, 0 when not touching; then all per-pair values above are 0 too
+  ScalarView overlap; // m, 0 when not touching; then all per-pair values above are 0 too
 };
 
-template <class Visitor>
-void for_each_pair_list_field(Visitor&& visit) {
+template <class Visitor> void for_each_pair_list_field(Visitor&& visit) {
   visit("row_start", &PairList::row_start);
   visit("pair_i", &PairList::pair_i);
   visit("pair_j", &PairList::pair_j);
@@ -49,18 +48,23 @@ KOKKOS_INLINE_FUNCTION void for_each_candidate(const CellBins& bins, const Vec3V
   const int c[3] = {g.coordinate(xi.x, 0), g.coordinate(xi.y, 1), g.coordinate(xi.z, 2)};
   for (int dz = -1; dz <= 1; ++dz) {
     const int cz = c[2] + dz;
-    if (cz < 0 || cz >= g.dims[2]) continue;
+    if (cz < 0 || cz >= g.dims[2])
+      continue;
     for (int dy = -1; dy <= 1; ++dy) {
       const int cy = c[1] + dy;
-      if (cy < 0 || cy >= g.dims[1]) continue;
+      if (cy < 0 || cy >= g.dims[1])
+        continue;
       for (int dx = -1; dx <= 1; ++dx) {
         const int cx = c[0] + dx;
-        if (cx < 0 || cx >= g.dims[0]) continue;
+        if (cx < 0 || cx >= g.dims[0])
+          continue;
         const int cell = g.flat(cx, cy, cz);
         for (int j = bins.cell_start(cell); j < bins.cell_start(cell + 1); ++j) {
-          if (j == i) continue;
+          if (j == i)
+            continue;
           const double reach = radius(i) + radius(j) + skin;
-          if (norm2(load3(position, j) - xi) < reach * reach) visit(j);
+          if (norm2(load3(position, j) - xi) < reach * reach)
+            visit(j);
         }
       }
     }
@@ -76,7 +80,8 @@ inline PairList build_pair_list(const ParticleViews& p, const CellBins& bins, do
   Kokkos::parallel_for(
       "kdem::pair_count", RangePolicy(0, n), KOKKOS_LAMBDA(int i) {
         int above = 0, below = 0;
-        for_each_candidate(bins, position, radius, skin, i, [&](int j) { (j > i ? above : below)++; });
+        for_each_candidate(bins, position, radius, skin, i,
+                           [&](int j) { (j > i ? above : below)++; });
         half_count(i) = above;
         reverse_count(i) = below;
       });
@@ -102,7 +107,8 @@ inline PairList build_pair_list(const ParticleViews& p, const CellBins& bins, do
       "kdem::pair_fill", RangePolicy(0, n), KOKKOS_LAMBDA(int i) {
         int slot = row_start(i);
         for_each_candidate(bins, position, radius, skin, i, [&](int j) {
-          if (j < i) return;
+          if (j < i)
+            return;
           pair_i(slot) = i;
           pair_j(slot) = j;
           partner_id(slot) = id(j);
@@ -115,9 +121,11 @@ inline PairList build_pair_list(const ParticleViews& p, const CellBins& bins, do
       "kdem::pair_reverse_fill", RangePolicy(0, n), KOKKOS_LAMBDA(int i) {
         int slot = reverse_start(i);
         for_each_candidate(bins, position, radius, skin, i, [&](int j) {
-          if (j > i) return;
+          if (j > i)
+            return;
           int k = row_start(j);
-          while (pair_j(k) != i) ++k;
+          while (pair_j(k) != i)
+            ++k;
           reverse_pair(slot++) = k;
         });
       });
@@ -136,16 +144,18 @@ inline IndexView rows_by_id(const IdView& id, int count, std::int64_t id_bound) 
 // Finds, in row `row` of a CSR list keyed by partner ids, the entry whose key is `key`; -1 if none.
 KOKKOS_INLINE_FUNCTION int find_in_row(const IndexView& row_start, const IdView& keys, int row,
                                        std::int64_t key) {
-  if (row < 0) return -1;
+  if (row < 0)
+    return -1;
   for (int k = row_start(row); k < row_start(row + 1); ++k)
-    if (keys(k) == key) return k;
+    if (keys(k) == key)
+      return k;
   return -1;
 }
 
 // Copies the history of every pair that was in the old list; a pair whose order of i and j
 // flipped gets its vectors negated (they are defined for the body i).
-inline void transfer_pair_history(PairList& fresh, const PairList& old, const IndexView& old_row_of_id,
-                                  const IdView& id) {
+inline void transfer_pair_history(PairList& fresh, const PairList& old,
+                                  const IndexView& old_row_of_id, const IdView& id) {
   auto pair_i = fresh.pair_i;
   auto partner = fresh.partner_id;
   auto spring = fresh.tangential_spring, rolling = fresh.rolling_torque;
@@ -162,7 +172,8 @@ inline void transfer_pair_history(PairList& fresh, const PairList& old, const In
           found = find_in_row(old_start, old_partner, old_row_of_id(b), a);
           sign = -1.0;
         }
-        if (found < 0) return;
+        if (found < 0)
+          return;
         overlap(k) = old_overlap(found);
         for (int c = 0; c < 3; ++c) {
           spring(k, c) = sign * old_spring(found, c);
@@ -171,4 +182,4 @@ inline void transfer_pair_history(PairList& fresh, const PairList& old, const In
       });
 }
 
-}  // namespace kdem
+} // namespace kdem

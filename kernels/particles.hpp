@@ -10,15 +10,15 @@ namespace kdem {
 
 struct ParticleViews {
   int count = 0;
-  Vec3View position;          // m
-  Vec3View velocity;          // m/s
-  Vec3View angular_velocity;  // rad/s, world frame
-  QuatView orientation;       // body to world
-  Vec3View force;             // N
-  Vec3View torque;            // N m, world frame
-  ScalarView radius;          // m
-  ScalarView mass;            // kg
-  Vec3View inertia;           // kg m^2, principal moments in the body frame
+  Vec3View position;         // m
+  Vec3View velocity;         // m/s
+  Vec3View angular_velocity; // rad/s, world frame
+  QuatView orientation;      // body to world
+  Vec3View force;            // N
+  Vec3View torque;           // N m, world frame
+  ScalarView radius;         // m
+  ScalarView mass;           // kg
+  Vec3View inertia;          // kg m^2, principal moments in the body frame
   IndexView material;
   IndexView shape;
   IdView id;                  // stable across sorting, restarts and deletion
@@ -44,8 +44,7 @@ struct ParticleViews {
 
 // Every per-particle field, as (name, member pointer), so that copying, permuting and
 // checkpointing cover all fields without listing them again.
-template <class Visitor>
-void for_each_particle_field(Visitor&& visit) {
+template <class Visitor> void for_each_particle_field(Visitor&& visit) {
   visit("position", &ParticleViews::position);
   visit("velocity", &ParticleViews::velocity);
   visit("angular_velocity", &ParticleViews::angular_velocity);
@@ -63,25 +62,30 @@ void for_each_particle_field(Visitor&& visit) {
 
 // new_field(k) = old_field(source(k)) for every field; `source` has new_count entries.
 template <class T>
-DeviceView<T*> gather_rows(const DeviceView<T*>& old_field, const IndexView& source, int new_count) {
+DeviceView<T*> gather_rows(const DeviceView<T*>& old_field, const IndexView& source,
+                           int new_count) {
   DeviceView<T*> result(old_field.label(), new_count);
   Kokkos::parallel_for(
-      "kdem::gather_rows", RangePolicy(0, new_count), KOKKOS_LAMBDA(int k) { result(k) = old_field(source(k)); });
+      "kdem::gather_rows", RangePolicy(0, new_count),
+      KOKKOS_LAMBDA(int k) { result(k) = old_field(source(k)); });
   return result;
 }
 
 template <class T, std::size_t N>
-DeviceView<T* [N]> gather_rows(const DeviceView<T* [N]>& old_field, const IndexView& source, int new_count) {
+DeviceView<T* [N]> gather_rows(const DeviceView<T* [N]>& old_field, const IndexView& source,
+                               int new_count) {
   DeviceView<T* [N]> result(old_field.label(), new_count);
   Kokkos::parallel_for(
       "kdem::gather_rows", RangePolicy(0, new_count), KOKKOS_LAMBDA(int k) {
-        for (std::size_t c = 0; c < N; ++c) result(k, c) = old_field(source(k), c);
+        for (std::size_t c = 0; c < N; ++c)
+          result(k, c) = old_field(source(k), c);
       });
   return result;
 }
 
 inline void permute_particles(ParticleViews& p, const IndexView& source, int new_count) {
-  for_each_particle_field([&](const char*, auto member) { p.*member = gather_rows(p.*member, source, new_count); });
+  for_each_particle_field(
+      [&](const char*, auto member) { p.*member = gather_rows(p.*member, source, new_count); });
   p.count = new_count;
 }
 
@@ -92,8 +96,9 @@ inline void copy_particle_rows(const ParticleViews& from, ParticleViews& to, int
     if constexpr (std::decay_t<decltype(from.*member)>::rank == 1)
       Kokkos::deep_copy(Kokkos::subview(to.*member, range), Kokkos::subview(from.*member, range));
     else
-      Kokkos::deep_copy(Kokkos::subview(to.*member, range, Kokkos::ALL), Kokkos::subview(from.*member, range, Kokkos::ALL));
+      Kokkos::deep_copy(Kokkos::subview(to.*member, range, Kokkos::ALL),
+                        Kokkos::subview(from.*member, range, Kokkos::ALL));
   });
 }
 
-}  // namespace kdem
+} // namespace kdem

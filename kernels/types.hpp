@@ -14,8 +14,7 @@ using ExecSpace = KDEM_EXEC_SPACE;
 using MemSpace = ExecSpace::memory_space;
 using RangePolicy = Kokkos::RangePolicy<ExecSpace>;
 
-template <class T>
-using DeviceView = Kokkos::View<T, MemSpace>;
+template <class T> using DeviceView = Kokkos::View<T, MemSpace>;
 
 using Vec3View = DeviceView<double* [3]>;
 using QuatView = DeviceView<double* [4]>;
@@ -23,4 +22,4 @@ using ScalarView = DeviceView<double*>;
 using IndexView = DeviceView<int*>;
 using IdView = DeviceView<std::int64_t*>;
 
-}  // namespace kdem
+} // namespace kdem

@@ -5,29 +5,25 @@
 
 namespace kdem {
 
-template <class View>
-KOKKOS_INLINE_FUNCTION Vec3 load3(const View& v, int i) {
+template <class View> KOKKOS_INLINE_FUNCTION Vec3 load3(const View& v, int i) {
   return {v(i, 0), v(i, 1), v(i, 2)};
 }
 
-template <class View>
-KOKKOS_INLINE_FUNCTION void store3(const View& v, int i, Vec3 a) {
+template <class View> KOKKOS_INLINE_FUNCTION void store3(const View& v, int i, Vec3 a) {
   v(i, 0) = a.x;
   v(i, 1) = a.y;
   v(i, 2) = a.z;
 }
 
-template <class View>
-KOKKOS_INLINE_FUNCTION Quat load_quat(const View& v, int i) {
+template <class View> KOKKOS_INLINE_FUNCTION Quat load_quat(const View& v, int i) {
   return {v(i, 0), v(i, 1), v(i, 2), v(i, 3)};
 }
 
-template <class View>
-KOKKOS_INLINE_FUNCTION void store_quat(const View& v, int i, Quat q) {
+template <class View> KOKKOS_INLINE_FUNCTION void store_quat(const View& v, int i, Quat q) {
   v(i, 0) = q.w;
   v(i, 1) = q.x;
   v(i, 2) = q.y;
   v(i, 3) = q.z;
 }
 
-}  // namespace kdem
+} // namespace kdem

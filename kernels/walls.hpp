@@ -15,15 +15,15 @@ enum WallElementKind : int { plane_element = 0, cylinder_element = 1, triangle_e
 // tau = max(0, t - start), and the wall takes part in contacts for active_from <= t < active_until.
 struct WallMotion {
   Vec3 pivot;
-  Vec3 velocity;  // m/s
-  Vec3 omega;     // rad/s
+  Vec3 velocity; // m/s
+  Vec3 omega;    // rad/s
   double start = 0, active_from = 0, active_until = 1e300;
   int material = 0;
 };
 
 struct WallPose {
   Quat rotation;
-  Vec3 offset;  // current position of the pivot
+  Vec3 offset; // current position of the pivot
   Vec3 pivot;
   Vec3 velocity, omega;
   int active = 1;
@@ -32,8 +32,12 @@ struct WallPose {
   KOKKOS_INLINE_FUNCTION Vec3 to_reference(Vec3 x) const {
     return pivot + rotate_inverse(rotation, x - offset);
   }
-  KOKKOS_INLINE_FUNCTION Vec3 to_world(Vec3 x_ref) const { return offset + rotate(rotation, x_ref - pivot); }
-  KOKKOS_INLINE_FUNCTION Vec3 velocity_at(Vec3 x) const { return velocity + cross(omega, x - offset); }
+  KOKKOS_INLINE_FUNCTION Vec3 to_world(Vec3 x_ref) const {
+    return offset + rotate(rotation, x_ref - pivot);
+  }
+  KOKKOS_INLINE_FUNCTION Vec3 velocity_at(Vec3 x) const {
+    return velocity + cross(omega, x - offset);
+  }
 };
 
 KOKKOS_INLINE_FUNCTION WallPose wall_pose_at(const WallMotion& m, double time) {
@@ -57,21 +61,21 @@ struct WallElements {
   int count = 0;
   IndexView kind;
   IndexView wall;
-  DeviceView<double* [9]> geometry;  // plane: origin, normal | cylinder: base, axis, radius,
-                                     // length | triangle: a, b, c (reference frame)
-  DeviceView<int* [6]> features;     // triangle: edge ids ab, bc, ca; vertex ids a, b, c
-  double feature_tolerance = 0;      // m, width of the band that decides between features
-  IndexView edge_owner;              // lowest-indexed adjacent triangle: the one that reports
-  IndexView edge_sides;              // 1 or 2 adjacent triangles (side 0 is the owner)
-  DeviceView<double* [6]> edge_outward;  // per side: unit in-plane direction away from it
+  DeviceView<double* [9]> geometry;     // plane: origin, normal | cylinder: base, axis, radius,
+                                        // length | triangle: a, b, c (reference frame)
+  DeviceView<int* [6]> features;        // triangle: edge ids ab, bc, ca; vertex ids a, b, c
+  double feature_tolerance = 0;         // m, width of the band that decides between features
+  IndexView edge_owner;                 // lowest-indexed adjacent triangle: the one that reports
+  IndexView edge_sides;                 // 1 or 2 adjacent triangles (side 0 is the owner)
+  DeviceView<double* [6]> edge_outward; // per side: unit in-plane direction away from it
   DeviceView<int* [2]> edge_vertices;
-  Vec3View edge_direction;           // unit, from edge_vertices 0 to 1
+  Vec3View edge_direction; // unit, from edge_vertices 0 to 1
   IndexView vertex_owner;
   Vec3View vertex_position;
-  IndexView vertex_edge_start;       // CSR over vertices
-  Vec3View vertex_edge_direction;    // unit vectors from the vertex along its edges
-  IndexView vertex_triangle_start;   // CSR over vertices
-  IndexView vertex_triangle;         // elements around the vertex
+  IndexView vertex_edge_start;     // CSR over vertices
+  Vec3View vertex_edge_direction;  // unit vectors from the vertex along its edges
+  IndexView vertex_triangle_start; // CSR over vertices
+  IndexView vertex_triangle;       // elements around the vertex
 };
 
 struct WallSet {
@@ -93,7 +97,8 @@ KOKKOS_INLINE_FUNCTION Vec3 geometry_vec(const DeviceView<double* [9]>& g, int e
   return {g(e, first), g(e, first + 1), g(e, first + 2)};
 }
 
-KOKKOS_INLINE_FUNCTION SurfaceQuery cylinder_query(const WallElements& el, int e, Vec3 p, bool& in_range) {
+KOKKOS_INLINE_FUNCTION SurfaceQuery cylinder_query(const WallElements& el, int e, Vec3 p,
+                                                   bool& in_range) {
   const Vec3 base = geometry_vec(el.geometry, e, 0), axis = geometry_vec(el.geometry, e, 3);
   const double radius = el.geometry(e, 6), length = el.geometry(e, 7);
   const Vec3 local = p - base;
@@ -110,12 +115,14 @@ KOKKOS_INLINE_FUNCTION SurfaceQuery cylinder_query(const WallElements& el, int e
 }
 
 KOKKOS_INLINE_FUNCTION Vec3 edge_outward_of(const WallElements& el, int edge, int side) {
-  return {el.edge_outward(edge, 3 * side), el.edge_outward(edge, 3 * side + 1), el.edge_outward(edge, 3 * side + 2)};
+  return {el.edge_outward(edge, 3 * side), el.edge_outward(edge, 3 * side + 1),
+          el.edge_outward(edge, 3 * side + 2)};
 }
 
 // Signed in-plane distance of p's projection beyond `edge`, seen from the triangle on `side`.
 KOKKOS_INLINE_FUNCTION double beyond_edge(const WallElements& el, int edge, int side, Vec3 p) {
-  return dot(p - load3(el.vertex_position, el.edge_vertices(edge, 0)), edge_outward_of(el, edge, side));
+  return dot(p - load3(el.vertex_position, el.edge_vertices(edge, 0)),
+             edge_outward_of(el, edge, side));
 }
 
 // p projects into triangle e deeper than the tolerance from each of its edges.
@@ -123,7 +130,8 @@ KOKKOS_INLINE_FUNCTION bool face_claims(const WallElements& el, int e, Vec3 p) {
   for (int k = 0; k < 3; ++k) {
     const int edge = el.features(e, k);
     const int side = el.edge_owner(edge) == e ? 0 : 1;
-    if (!(beyond_edge(el, edge, side, p) < -el.feature_tolerance)) return false;
+    if (!(beyond_edge(el, edge, side, p) < -el.feature_tolerance))
+      return false;
   }
   return true;
 }
@@ -132,7 +140,8 @@ KOKKOS_INLINE_FUNCTION bool face_claims(const WallElements& el, int e, Vec3 p) {
 KOKKOS_INLINE_FUNCTION bool edge_claims(const WallElements& el, int edge, Vec3 p) {
   const double tol = el.feature_tolerance;
   for (int side = 0; side < el.edge_sides(edge); ++side)
-    if (beyond_edge(el, edge, side, p) < -tol) return false;
+    if (beyond_edge(el, edge, side, p) < -tol)
+      return false;
   const Vec3 d = load3(el.edge_direction, edge);
   const Vec3 a = load3(el.vertex_position, el.edge_vertices(edge, 0));
   const Vec3 b = load3(el.vertex_position, el.edge_vertices(edge, 1));
@@ -143,13 +152,16 @@ KOKKOS_INLINE_FUNCTION bool edge_claims(const WallElements& el, int edge, Vec3 p
 KOKKOS_INLINE_FUNCTION bool vertex_claims(const WallElements& el, int vertex, Vec3 p) {
   const Vec3 v = load3(el.vertex_position, vertex);
   for (int k = el.vertex_edge_start(vertex); k < el.vertex_edge_start(vertex + 1); ++k)
-    if (dot(p - v, load3(el.vertex_edge_direction, k)) > el.feature_tolerance) return false;
+    if (dot(p - v, load3(el.vertex_edge_direction, k)) > el.feature_tolerance)
+      return false;
   for (int k = el.vertex_triangle_start(vertex); k < el.vertex_triangle_start(vertex + 1); ++k)
-    if (face_claims(el, el.vertex_triangle(k), p)) return false;
+    if (face_claims(el, el.vertex_triangle(k), p))
+      return false;
   return true;
 }
 
-KOKKOS_INLINE_FUNCTION SurfaceQuery point_feature_query(Vec3 point, Vec3 p, Vec3 fallback_normal, int feature) {
+KOKKOS_INLINE_FUNCTION SurfaceQuery point_feature_query(Vec3 point, Vec3 p, Vec3 fallback_normal,
+                                                        int feature) {
   SurfaceQuery q;
   q.point = point;
   q.feature = feature;
@@ -163,24 +175,29 @@ KOKKOS_INLINE_FUNCTION SurfaceQuery point_feature_query(Vec3 point, Vec3 p, Vec3
 // that e owns. A centre is claimed by exactly one feature of a mesh (up to the edge cases of a
 // tolerance band at obtuse corners, where it may be claimed by none), and the owner of an edge
 // or vertex is unique, so a sphere gets one contact per feature it touches.
-KOKKOS_INLINE_FUNCTION SurfaceQuery claimed_triangle_feature(const WallElements& el, int e, Vec3 p, bool& applies) {
-  const Vec3 a = geometry_vec(el.geometry, e, 0), b = geometry_vec(el.geometry, e, 3), c = geometry_vec(el.geometry, e, 6);
+KOKKOS_INLINE_FUNCTION SurfaceQuery claimed_triangle_feature(const WallElements& el, int e, Vec3 p,
+                                                             bool& applies) {
+  const Vec3 a = geometry_vec(el.geometry, e, 0), b = geometry_vec(el.geometry, e, 3),
+             c = geometry_vec(el.geometry, e, 6);
   const Vec3 normal_raw = cross(b - a, c - a);
   const Vec3 normal = (1.0 / norm(normal_raw)) * normal_raw;
   const double height = dot(p - a, normal);
   const Vec3 facing = height >= 0 ? normal : -normal;
   applies = true;
-  if (face_claims(el, e, p)) return point_feature_query(p - height * normal, p, facing, 0);
+  if (face_claims(el, e, p))
+    return point_feature_query(p - height * normal, p, facing, 0);
   for (int k = 0; k < 3; ++k) {
     const int edge = el.features(e, k);
-    if (el.edge_owner(edge) != e || !edge_claims(el, edge, p)) continue;
+    if (el.edge_owner(edge) != e || !edge_claims(el, edge, p))
+      continue;
     const Vec3 start = load3(el.vertex_position, el.edge_vertices(edge, 0));
     const Vec3 d = load3(el.edge_direction, edge);
     return point_feature_query(start + dot(p - start, d) * d, p, facing, 1 + k);
   }
   for (int k = 0; k < 3; ++k) {
     const int vertex = el.features(e, 3 + k);
-    if (el.vertex_owner(vertex) != e || !vertex_claims(el, vertex, p)) continue;
+    if (el.vertex_owner(vertex) != e || !vertex_claims(el, vertex, p))
+      continue;
     return point_feature_query(load3(el.vertex_position, vertex), p, facing, 4 + k);
   }
   applies = false;
@@ -189,31 +206,31 @@ KOKKOS_INLINE_FUNCTION SurfaceQuery claimed_triangle_feature(const WallElements&
 
 // Closest point of element e to the reference-frame point p. `applies` is false when the
 // element does not take part (outside a cylinder's length, a feature another triangle reports).
-KOKKOS_INLINE_FUNCTION SurfaceQuery query_element(const WallElements& el, int e, Vec3 p, bool& applies) {
+KOKKOS_INLINE_FUNCTION SurfaceQuery query_element(const WallElements& el, int e, Vec3 p,
+                                                  bool& applies) {
   applies = true;
   switch (el.kind(e)) {
-    case plane_element:
-      return plane_query(geometry_vec(el.geometry, e, 0), geometry_vec(el.geometry, e, 3), p);
-    case cylinder_element:
-      return cylinder_query(el, e, p, applies);
-    default:
-      return claimed_triangle_feature(el, e, p, applies);
+  case plane_element:
+    return plane_query(geometry_vec(el.geometry, e, 0), geometry_vec(el.geometry, e, 3), p);
+  case cylinder_element:
+    return cylinder_query(el, e, p, applies);
+  default:
+    return claimed_triangle_feature(el, e, p, applies);
   }
 }
 
 // Particle-wall candidates: elements within reach (radius + skin), per particle, with history.
 struct WallContactList {
   int entry_count = 0;
-  IndexView row_start;   // particle_count + 1
+  IndexView row_start; // particle_count + 1
   IndexView element;
-  IdView element_key;    // element index as a key for history transfer
+  IdView element_key; // element index as a key for history transfer
   Vec3View tangential_spring;
   Vec3View rolling_torque;
   ScalarView overlap;
 };
 
-template <class Visitor>
-void for_each_wall_contact_field(Visitor&& visit) {
+template <class Visitor> void for_each_wall_contact_field(Visitor&& visit) {
   visit("row_start", &WallContactList::row_start);
   visit("element", &WallContactList::element);
   visit("element_key", &WallContactList::element_key);
@@ -222,7 +239,8 @@ void for_each_wall_contact_field(Visitor&& visit) {
   visit("overlap", &WallContactList::overlap);
 }
 
-KOKKOS_INLINE_FUNCTION bool element_within_reach(const WallElements& el, int e, Vec3 p, double reach) {
+KOKKOS_INLINE_FUNCTION bool element_within_reach(const WallElements& el, int e, Vec3 p,
+                                                 double reach) {
   bool in_range = true;
   if (el.kind(e) == cylinder_element) {
     const Vec3 base = geometry_vec(el.geometry, e, 0), axis = geometry_vec(el.geometry, e, 3);
@@ -231,13 +249,15 @@ KOKKOS_INLINE_FUNCTION bool element_within_reach(const WallElements& el, int e, 
     return in_range && cylinder_query(el, e, p, in_range).signed_distance < reach;
   }
   if (el.kind(e) == plane_element)
-    return plane_query(geometry_vec(el.geometry, e, 0), geometry_vec(el.geometry, e, 3), p).signed_distance < reach;
+    return plane_query(geometry_vec(el.geometry, e, 0), geometry_vec(el.geometry, e, 3), p)
+               .signed_distance < reach;
   return triangle_query(geometry_vec(el.geometry, e, 0), geometry_vec(el.geometry, e, 3),
                         geometry_vec(el.geometry, e, 6), p)
              .signed_distance < reach;
 }
 
-inline WallContactList build_wall_contact_list(const ParticleViews& p, const WallSet& walls, double skin) {
+inline WallContactList build_wall_contact_list(const ParticleViews& p, const WallSet& walls,
+                                               double skin) {
   const int n = p.count;
   WallContactList list;
   IndexView counts("wall_candidate_count", n);
@@ -250,7 +270,9 @@ inline WallContactList build_wall_contact_list(const ParticleViews& p, const Wal
       "kdem::wall_candidate_count", RangePolicy(0, n), KOKKOS_LAMBDA(int i) {
         int found = 0;
         for (int e = 0; e < elements; ++e)
-          if (element_within_reach(el, e, pose(el.wall(e)).to_reference(load3(x, i)), radius(i) + skin)) ++found;
+          if (element_within_reach(el, e, pose(el.wall(e)).to_reference(load3(x, i)),
+                                   radius(i) + skin))
+            ++found;
         counts(i) = found;
       });
   list.row_start = exclusive_scan_with_total(counts, list.entry_count);
@@ -267,7 +289,9 @@ inline WallContactList build_wall_contact_list(const ParticleViews& p, const Wal
       "kdem::wall_candidate_fill", RangePolicy(0, n), KOKKOS_LAMBDA(int i) {
         int slot = row_start(i);
         for (int e = 0; e < elements; ++e) {
-          if (!element_within_reach(el, e, pose(el.wall(e)).to_reference(load3(x, i)), radius(i) + skin)) continue;
+          if (!element_within_reach(el, e, pose(el.wall(e)).to_reference(load3(x, i)),
+                                    radius(i) + skin))
+            continue;
           element(slot) = e;
           key(slot) = e;
           ++slot;
@@ -278,7 +302,8 @@ inline WallContactList build_wall_contact_list(const ParticleViews& p, const Wal
 
 // Wall rows are per particle; history moves by (particle id, element).
 inline void transfer_wall_history(WallContactList& fresh, const WallContactList& old,
-                                  const IndexView& old_row_of_id, const IdView& id, int particle_count) {
+                                  const IndexView& old_row_of_id, const IdView& id,
+                                  int particle_count) {
   auto row_start = fresh.row_start;
   auto key = fresh.element_key;
   auto spring = fresh.tangential_spring, rolling = fresh.rolling_torque;
@@ -290,7 +315,8 @@ inline void transfer_wall_history(WallContactList& fresh, const WallContactList&
         const int old_row = old_row_of_id(id(i));
         for (int k = row_start(i); k < row_start(i + 1); ++k) {
           const int found = find_in_row(old_start, old_key, old_row, key(k));
-          if (found < 0) continue;
+          if (found < 0)
+            continue;
           for (int c = 0; c < 3; ++c) {
             spring(k, c) = old_spring(found, c);
             rolling(k, c) = old_rolling(found, c);
@@ -302,8 +328,9 @@ inline void transfer_wall_history(WallContactList& fresh, const WallContactList&
 // Sets each particle's force to gravity plus its wall contact forces, and its torque to the
 // wall torques. Runs before the pair gather, which adds to these.
 template <bool RollingResistance>
-void apply_gravity_and_wall_forces(const ParticleViews& p, const WallSet& walls, WallContactList& list,
-                                   const CoefficientTable& table, Vec3 gravity, double dt) {
+void apply_gravity_and_wall_forces(const ParticleViews& p, const WallSet& walls,
+                                   WallContactList& list, const CoefficientTable& table,
+                                   Vec3 gravity, double dt) {
   auto x = p.position, v = p.velocity, w = p.angular_velocity;
   auto radius = p.radius, mass = p.mass;
   auto material = p.material;
@@ -323,10 +350,12 @@ void apply_gravity_and_wall_forces(const ParticleViews& p, const WallSet& walls,
           const WallPose wall = pose(el.wall(e));
           bool applies = wall.active != 0;
           SurfaceQuery q;
-          if (applies) q = query_element(el, e, wall.to_reference(xi), applies);
+          if (applies)
+            q = query_element(el, e, wall.to_reference(xi), applies);
           ContactInput in;
           if (applies) {
-            const ContactGeometry local = sphere_on_surface(wall.to_reference(xi), radius(i), q.signed_distance, q.free_normal);
+            const ContactGeometry local = sphere_on_surface(wall.to_reference(xi), radius(i),
+                                                            q.signed_distance, q.free_normal);
             in.geometry.touching = local.touching;
             in.geometry.overlap = local.overlap;
             in.geometry.normal = rotate(wall.rotation, local.normal);
@@ -344,7 +373,8 @@ void apply_gravity_and_wall_forces(const ParticleViews& p, const WallSet& walls,
           in.effective_radius = radius(i);
           in.effective_mass = mass(i);
           ContactHistory history{load3(spring, k), load3(rolling, k)};
-          const ContactOutput out = hertz_mindlin<RollingResistance>(table(material(i), wall.material), in, dt, history);
+          const ContactOutput out =
+              hertz_mindlin<RollingResistance>(table(material(i), wall.material), in, dt, history);
           store3(spring, k, history.tangential_spring);
           store3(rolling, k, history.rolling_torque);
           overlap(k) = in.geometry.overlap;
@@ -356,4 +386,4 @@ void apply_gravity_and_wall_forces(const ParticleViews& p, const WallSet& walls,
       });
 }
 
-}  // namespace kdem
+} // namespace kdem

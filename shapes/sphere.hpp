@@ -6,16 +6,20 @@ namespace kdem {
 
 constexpr double pi = 3.14159265358979323846;
 
-KOKKOS_INLINE_FUNCTION double sphere_volume(double radius) { return 4.0 / 3.0 * pi * radius * radius * radius; }
+KOKKOS_INLINE_FUNCTION double sphere_volume(double radius) {
+  return 4.0 / 3.0 * pi * radius * radius * radius;
+}
 
 // Principal moment of inertia of a solid sphere of this mass and radius.
-KOKKOS_INLINE_FUNCTION double sphere_inertia(double mass, double radius) { return 0.4 * mass * radius * radius; }
+KOKKOS_INLINE_FUNCTION double sphere_inertia(double mass, double radius) {
+  return 0.4 * mass * radius * radius;
+}
 
 // Contact geometry between two bodies i and j. `normal` is the unit vector from j towards i,
 // so the normal force on i is +F_n normal. `point` lies midway in the overlap region.
 struct ContactGeometry {
   bool touching = false;
-  double overlap = 0;  // m, > 0 when touching
+  double overlap = 0; // m, > 0 when touching
   Vec3 normal;
   Vec3 point;
 };
@@ -25,7 +29,8 @@ KOKKOS_INLINE_FUNCTION ContactGeometry sphere_sphere(Vec3 xi, double ri, Vec3 xj
   const Vec3 d = xi - xj;
   const double dist2 = norm2(d);
   const double reach = ri + rj;
-  if (dist2 >= reach * reach) return g;
+  if (dist2 >= reach * reach)
+    return g;
   const double dist = math::sqrt(dist2);
   g.touching = true;
   g.overlap = reach - dist;
@@ -40,7 +45,8 @@ KOKKOS_INLINE_FUNCTION ContactGeometry sphere_sphere(Vec3 xi, double ri, Vec3 xj
 KOKKOS_INLINE_FUNCTION ContactGeometry sphere_on_surface(Vec3 centre, double radius,
                                                          double signed_distance, Vec3 free_normal) {
   ContactGeometry g;
-  if (signed_distance >= radius) return g;
+  if (signed_distance >= radius)
+    return g;
   g.touching = true;
   g.overlap = radius - signed_distance;
   g.normal = free_normal;
@@ -48,4 +54,4 @@ KOKKOS_INLINE_FUNCTION ContactGeometry sphere_on_surface(Vec3 centre, double rad
   return g;
 }
 
-}  // namespace kdem
+} // namespace kdem

@@ -11,11 +11,21 @@ struct Vec3 {
   KOKKOS_INLINE_FUNCTION double operator[](int k) const { return k == 0 ? x : (k == 1 ? y : z); }
 };
 
-KOKKOS_INLINE_FUNCTION Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-KOKKOS_INLINE_FUNCTION Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-KOKKOS_INLINE_FUNCTION Vec3 operator-(Vec3 a) { return {-a.x, -a.y, -a.z}; }
-KOKKOS_INLINE_FUNCTION Vec3 operator*(double s, Vec3 a) { return {s * a.x, s * a.y, s * a.z}; }
-KOKKOS_INLINE_FUNCTION Vec3 operator*(Vec3 a, double s) { return {s * a.x, s * a.y, s * a.z}; }
+KOKKOS_INLINE_FUNCTION Vec3 operator+(Vec3 a, Vec3 b) {
+  return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+KOKKOS_INLINE_FUNCTION Vec3 operator-(Vec3 a, Vec3 b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+KOKKOS_INLINE_FUNCTION Vec3 operator-(Vec3 a) {
+  return {-a.x, -a.y, -a.z};
+}
+KOKKOS_INLINE_FUNCTION Vec3 operator*(double s, Vec3 a) {
+  return {s * a.x, s * a.y, s * a.z};
+}
+KOKKOS_INLINE_FUNCTION Vec3 operator*(Vec3 a, double s) {
+  return {s * a.x, s * a.y, s * a.z};
+}
 KOKKOS_INLINE_FUNCTION Vec3& operator+=(Vec3& a, Vec3 b) {
   a.x += b.x;
   a.y += b.y;
@@ -28,12 +38,18 @@ KOKKOS_INLINE_FUNCTION Vec3& operator-=(Vec3& a, Vec3 b) {
   a.z -= b.z;
   return a;
 }
-KOKKOS_INLINE_FUNCTION double dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+KOKKOS_INLINE_FUNCTION double dot(Vec3 a, Vec3 b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 KOKKOS_INLINE_FUNCTION Vec3 cross(Vec3 a, Vec3 b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-KOKKOS_INLINE_FUNCTION double norm2(Vec3 a) { return dot(a, a); }
-KOKKOS_INLINE_FUNCTION double norm(Vec3 a) { return math::sqrt(dot(a, a)); }
+KOKKOS_INLINE_FUNCTION double norm2(Vec3 a) {
+  return dot(a, a);
+}
+KOKKOS_INLINE_FUNCTION double norm(Vec3 a) {
+  return math::sqrt(dot(a, a));
+}
 
 // Unit quaternion (w, x, y, z), Hamilton convention, rotating body frame to world frame.
 struct Quat {
@@ -44,10 +60,9 @@ struct Quat {
 };
 
 KOKKOS_INLINE_FUNCTION Quat operator*(Quat a, Quat b) {
-  return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z,
-          a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
-          a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x,
-          a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
+  return {
+      a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+      a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
 }
 
 KOKKOS_INLINE_FUNCTION Quat normalized(Quat q) {
@@ -62,7 +77,9 @@ KOKKOS_INLINE_FUNCTION Vec3 rotate(Quat q, Vec3 v) {
   return v + q.w * t + cross(u, t);
 }
 
-KOKKOS_INLINE_FUNCTION Vec3 rotate_inverse(Quat q, Vec3 v) { return rotate(Quat{q.w, -q.x, -q.y, -q.z}, v); }
+KOKKOS_INLINE_FUNCTION Vec3 rotate_inverse(Quat q, Vec3 v) {
+  return rotate(Quat{q.w, -q.x, -q.y, -q.z}, v);
+}
 
 // Rotation by angle |phi| about phi/|phi|, exact for any angle. Below 1e-3 rad the series
 // cos(a/2) = 1 - a^2/8 + a^4/384, sin(a/2)/a = 1/2 - a^2/48 + a^4/3840 are exact to double
@@ -79,4 +96,4 @@ KOKKOS_INLINE_FUNCTION Quat quat_from_rotation_vector(Vec3 phi) {
   return {math::cos(0.5 * angle), s * phi.x, s * phi.y, s * phi.z};
 }
 
-}  // namespace kdem
+} // namespace kdem

@@ -12,7 +12,7 @@ struct SurfaceQuery {
   Vec3 point;
   Vec3 free_normal;
   double signed_distance = 0;
-  int feature = 0;  // triangles: 0 face, 1..3 edges ab, bc, ca, 4..6 vertices a, b, c
+  int feature = 0; // triangles: 0 face, 1..3 edges ab, bc, ca, 4..6 vertices a, b, c
 };
 
 // Infinite plane through `origin` with unit normal `normal` pointing to the free side.
@@ -80,4 +80,4 @@ KOKKOS_INLINE_FUNCTION SurfaceQuery triangle_query(Vec3 a, Vec3 b, Vec3 c, Vec3 
   return q;
 }
 
-}  // namespace kdem
+} // namespace kdem

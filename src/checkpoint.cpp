@@ -12,15 +12,14 @@ namespace {
 
 constexpr std::int64_t checkpoint_format = 1;
 
-template <class View>
-void save_view(Hdf5Writer& out, const std::string& name, const View& view) {
+template <class View> void save_view(Hdf5Writer& out, const std::string& name, const View& view) {
   const int rows = view.data() ? int(view.extent(0)) : 0;
-  const auto values = rows > 0 ? flatten_to_host(view, rows) : std::vector<typename View::non_const_value_type>{};
+  const auto values =
+      rows > 0 ? flatten_to_host(view, rows) : std::vector<typename View::non_const_value_type>{};
   out.write(name, values, {hsize_t(rows), hsize_t(columns_of(view))});
 }
 
-template <class View>
-void load_view(const Hdf5Reader& in, const std::string& name, View& view) {
+template <class View> void load_view(const Hdf5Reader& in, const std::string& name, View& view) {
   using Value = typename View::non_const_value_type;
   std::vector<Value> values;
   if constexpr (std::is_same_v<Value, double>)
@@ -40,7 +39,7 @@ std::string rng_state(const std::mt19937_64& rng) {
   return text.str();
 }
 
-}  // namespace
+} // namespace
 
 void Engine::write_checkpoint(const std::string& path) const {
   const State& s = *state_;
@@ -86,11 +85,14 @@ void Engine::read_checkpoint(const std::string& path) {
   State& s = *state_;
   Hdf5Reader in(path);
   auto require = [&](bool ok, const std::string& what) {
-    if (!ok) throw std::runtime_error(path + ": checkpoint does not match the scene: " + what);
+    if (!ok)
+      throw std::runtime_error(path + ": checkpoint does not match the scene: " + what);
   };
   require(in.read_scalar_int64("format") == checkpoint_format, "unknown checkpoint format");
-  require(in.read_scalar_int64("material_count") == std::int64_t(s.scene.materials.size()), "material count differs");
-  require(in.read_scalar_int64("wall_element_count") == s.walls.elements.count, "wall elements differ");
+  require(in.read_scalar_int64("material_count") == std::int64_t(s.scene.materials.size()),
+          "material count differs");
+  require(in.read_scalar_int64("wall_element_count") == s.walls.elements.count,
+          "wall elements differ");
   s.time = in.read_scalar_double("time");
   s.step_count = in.read_scalar_int64("step");
   s.next_id = in.read_scalar_int64("next_id");
@@ -126,4 +128,4 @@ void Engine::read_checkpoint(const std::string& path) {
   update_wall_poses(s.walls, s.time);
 }
 
-}  // namespace kdem
+} // namespace kdem

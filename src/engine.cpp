@@ -17,9 +17,13 @@
 namespace kdem {
 namespace {
 
-Vec3 to_vec3(const Vec3d& a) { return {a[0], a[1], a[2]}; }
+Vec3 to_vec3(const Vec3d& a) {
+  return {a[0], a[1], a[2]};
+}
 
-double mean_or_override(double a, double b) { return 0.5 * (a + b); }
+double mean_or_override(double a, double b) {
+  return 0.5 * (a + b);
+}
 
 PairCoefficients coefficients_for(const MaterialConfig& a, const MaterialConfig& b,
                                   const std::vector<InteractionConfig>& interactions) {
@@ -32,7 +36,8 @@ PairCoefficients coefficients_for(const MaterialConfig& a, const MaterialConfig&
   c.friction = mean_or_override(a.friction, b.friction);
   c.rolling_friction = mean_or_override(a.rolling_friction, b.rolling_friction);
   for (const InteractionConfig& i : interactions) {
-    if ((i.material_a == a.name && i.material_b == b.name) || (i.material_a == b.name && i.material_b == a.name)) {
+    if ((i.material_a == a.name && i.material_b == b.name) ||
+        (i.material_a == b.name && i.material_b == a.name)) {
       restitution = i.restitution;
       c.friction = i.friction;
       c.rolling_friction = i.rolling_friction;
@@ -46,7 +51,8 @@ template <class T, class Host>
 DeviceView<T*> upload(const std::string& label, const std::vector<Host>& values) {
   DeviceView<T*> view(label, values.size());
   auto mirror = Kokkos::create_mirror_view(view);
-  for (std::size_t k = 0; k < values.size(); ++k) mirror(k) = values[k];
+  for (std::size_t k = 0; k < values.size(); ++k)
+    mirror(k) = values[k];
   Kokkos::deep_copy(view, mirror);
   return view;
 }
@@ -56,12 +62,13 @@ View upload_rows(const std::string& label, const std::vector<std::array<Host, N>
   View view(label, rows.size());
   auto mirror = Kokkos::create_mirror_view(view);
   for (std::size_t k = 0; k < rows.size(); ++k)
-    for (std::size_t c = 0; c < N; ++c) mirror(k, c) = rows[k][c];
+    for (std::size_t c = 0; c < N; ++c)
+      mirror(k, c) = rows[k][c];
   Kokkos::deep_copy(view, mirror);
   return view;
 }
 
-}  // namespace
+} // namespace
 
 Engine::Engine(const SceneConfig& scene) : state_(std::make_unique<State>()) {
   State& s = *state_;
@@ -80,7 +87,8 @@ Engine::~Engine() = default;
 
 void Engine::State::setup_materials() {
   const int n = int(scene.materials.size());
-  if (n == 0) throw std::runtime_error(scene.source_file + ": no materials defined");
+  if (n == 0)
+    throw std::runtime_error(scene.source_file + ": no materials defined");
   coefficients = CoefficientTable("pair_coefficients", n, n);
   auto mirror = Kokkos::create_mirror_view(coefficients);
   rolling = false;
@@ -92,34 +100,41 @@ void Engine::State::setup_materials() {
   Kokkos::deep_copy(coefficients, mirror);
 }
 
-int Engine::material_index(const std::string& name) const { return state_->material_index(name); }
+int Engine::material_index(const std::string& name) const {
+  return state_->material_index(name);
+}
 
 int Engine::State::material_index(const std::string& name) const {
   for (std::size_t m = 0; m < scene.materials.size(); ++m)
-    if (scene.materials[m].name == name) return int(m);
+    if (scene.materials[m].name == name)
+      return int(m);
   throw std::runtime_error(scene.source_file + ": unknown material '" + name + "'");
 }
 
 void Engine::State::setup_domain() {
   Vec3d lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
   auto include = [&](const Vec3d& a, const Vec3d& b) {
-    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], a[k]), hi[k] = std::max(hi[k], b[k]);
+    for (int k = 0; k < 3; ++k)
+      lo[k] = std::min(lo[k], a[k]), hi[k] = std::max(hi[k], b[k]);
   };
   if (scene.has_domain) {
     include(scene.domain_min, scene.domain_max);
   } else {
     Vec3d wall_lo, wall_hi;
-    if (walls_bounding_box(scene.walls, wall_lo, wall_hi)) include(wall_lo, wall_hi);
+    if (walls_bounding_box(scene.walls, wall_lo, wall_hi))
+      include(wall_lo, wall_hi);
     for (const ParticleSourceConfig& src : scene.sources) {
       const RegionConfig& r = src.region;
       if (r.kind == RegionConfig::Kind::Box) {
         include(r.min, r.max);
       } else {
         const Vec3d& c = r.base_center;
-        include({c[0] - r.radius, c[1] - r.radius, c[2]}, {c[0] + r.radius, c[1] + r.radius, c[2] + r.height});
+        include({c[0] - r.radius, c[1] - r.radius, c[2]},
+                {c[0] + r.radius, c[1] + r.radius, c[2] + r.height});
       }
     }
-    if (lo[0] > hi[0]) lo = {-1, -1, -1}, hi = {1, 1, 1};
+    if (lo[0] > hi[0])
+      lo = {-1, -1, -1}, hi = {1, 1, 1};
   }
   domain_min = lo;
   domain_max = hi;
@@ -152,7 +167,8 @@ void Engine::State::setup_walls() {
   el.vertex_triangle = upload<int>("wall_vertex_triangle", table.vertex_triangle);
   el.vertex_owner = upload<int>("wall_vertex_owner", table.vertex_owner);
   el.vertex_edge_start = upload<int>("wall_vertex_edge_start", table.vertex_edge_start);
-  el.vertex_edge_direction = upload_rows<Vec3View>("wall_vertex_edge_direction", table.vertex_edge_direction);
+  el.vertex_edge_direction =
+      upload_rows<Vec3View>("wall_vertex_edge_direction", table.vertex_edge_direction);
   std::vector<WallMotion> device_motions;
   for (const WallMotionData& m : motions) {
     WallMotion d;
@@ -174,7 +190,8 @@ void Engine::State::setup_outlets() {
   std::vector<OutletBox> boxes;
   for (const OutletConfig& o : scene.outlets) {
     OutletBox b;
-    for (int a = 0; a < 3; ++a) b.min[a] = o.min[a], b.max[a] = o.max[a];
+    for (int a = 0; a < 3; ++a)
+      b.min[a] = o.min[a], b.max[a] = o.max[a];
     boxes.push_back(b);
   }
   outlet_count = int(boxes.size());
@@ -189,13 +206,16 @@ void Engine::State::setup_sources() {
     st.rng.seed(src.seed);
     st.material = material_index(src.material);
     st.next_insertion = src.start;
-    if (src.rate > 0) continue;
+    if (src.rate > 0)
+      continue;
     const std::int64_t wanted = src.count > 0 ? src.count : std::int64_t(1) << 40;
-    const std::vector<ParticleSeed> seeds = generate_particles(src, wanted, current_obstacles(), st.rng);
+    const std::vector<ParticleSeed> seeds =
+        generate_particles(src, wanted, current_obstacles(), st.rng);
     if (src.count > 0 && std::int64_t(seeds.size()) < src.count) {
       std::ostringstream msg;
-      msg << scene.source_file << ": particles '" << src.name << "': only " << seeds.size() << " of "
-          << src.count << " particles fit in the region without overlaps; enlarge the region or lower the count";
+      msg << scene.source_file << ": particles '" << src.name << "': only " << seeds.size()
+          << " of " << src.count
+          << " particles fit in the region without overlaps; enlarge the region or lower the count";
       throw std::runtime_error(msg.str());
     }
     st.inserted = std::int64_t(seeds.size());
@@ -207,7 +227,8 @@ Obstacles Engine::State::current_obstacles() const {
   Obstacles obstacles;
   const ParticleSnapshot snap = make_snapshot();
   for (std::size_t i = 0; i < snap.size(); ++i) {
-    obstacles.centres.push_back({snap.position[3 * i], snap.position[3 * i + 1], snap.position[3 * i + 2]});
+    obstacles.centres.push_back(
+        {snap.position[3 * i], snap.position[3 * i + 1], snap.position[3 * i + 2]});
     obstacles.radii.push_back(snap.radius[i]);
   }
   return obstacles;
@@ -235,7 +256,8 @@ void Engine::add_particles(const std::vector<ParticleInit>& particles) {
 
 // New particles go at the end, with fresh stable ids; lists are rebuilt before the next forces.
 void Engine::State::append_particles(const std::vector<ParticleInit>& added) {
-  if (added.empty()) return;
+  if (added.empty())
+    return;
   const int old_count = particles.count;
   ParticleViews grown;
   grown.allocate(old_count + int(added.size()));
@@ -272,15 +294,19 @@ void Engine::State::write_new_rows(const std::vector<ParticleInit>& added, int f
   for (std::size_t k = 0; k < added.size(); ++k) {
     const ParticleInit& a = added[k];
     const int i = first + int(k);
-    if (!(a.radius > 0)) throw std::runtime_error("particle radius must be positive");
+    if (!(a.radius > 0))
+      throw std::runtime_error("particle radius must be positive");
     if (a.material < 0 || a.material >= int(scene.materials.size()))
       throw std::runtime_error("particle material index out of range");
     const double density = scene.materials[a.material].density;
-    for (int c = 0; c < 3; ++c) x(i, c) = a.position[c], v(i, c) = a.velocity[c], w(i, c) = a.angular_velocity[c];
-    for (int c = 0; c < 4; ++c) q(i, c) = a.orientation[c];
+    for (int c = 0; c < 3; ++c)
+      x(i, c) = a.position[c], v(i, c) = a.velocity[c], w(i, c) = a.angular_velocity[c];
+    for (int c = 0; c < 4; ++c)
+      q(i, c) = a.orientation[c];
     radius(i) = a.radius;
     mass(i) = density * sphere_volume(a.radius);
-    for (int c = 0; c < 3; ++c) inertia(i, c) = sphere_inertia(mass(i), a.radius);
+    for (int c = 0; c < 3; ++c)
+      inertia(i, c) = sphere_inertia(mass(i), a.radius);
     material(i) = a.material;
     id(i) = next_id++;
   }
@@ -303,19 +329,23 @@ double Engine::State::effective_skin() const {
 double Engine::State::wall_travel_since_build() const {
   const double elapsed = time - last_build_time;
   double travel = 0;
-  const Vec3d extent{domain_max[0] - domain_min[0], domain_max[1] - domain_min[1], domain_max[2] - domain_min[2]};
-  const double reach = std::sqrt(extent[0] * extent[0] + extent[1] * extent[1] + extent[2] * extent[2]);
+  const Vec3d extent{domain_max[0] - domain_min[0], domain_max[1] - domain_min[1],
+                     domain_max[2] - domain_min[2]};
+  const double reach =
+      std::sqrt(extent[0] * extent[0] + extent[1] * extent[1] + extent[2] * extent[2]);
   for (const WallMotionData& m : motions) {
     const double speed = std::sqrt(m.velocity[0] * m.velocity[0] + m.velocity[1] * m.velocity[1] +
                                    m.velocity[2] * m.velocity[2]);
-    const double spin = std::sqrt(m.omega[0] * m.omega[0] + m.omega[1] * m.omega[1] + m.omega[2] * m.omega[2]);
+    const double spin =
+        std::sqrt(m.omega[0] * m.omega[0] + m.omega[1] * m.omega[1] + m.omega[2] * m.omega[2]);
     travel = std::max(travel, (speed + spin * reach) * elapsed);
   }
   return travel;
 }
 
 bool Engine::State::lists_are_stale() const {
-  if (needs_rebuild || rebuild_every_step) return true;
+  if (needs_rebuild || rebuild_every_step)
+    return true;
   const double half_skin = 0.5 * effective_skin();
   const double moved = std::sqrt(max_displacement_squared(particles));
   return moved > half_skin || moved + wall_travel_since_build() > effective_skin();
@@ -329,11 +359,13 @@ void Engine::State::rebuild_lists() {
   const double lo[3] = {domain_min[0], domain_min[1], domain_min[2]};
   const double hi[3] = {domain_max[0], domain_max[1], domain_max[2]};
   double cell_size = 2 * largest_radius + list_skin;
-  if (!(cell_size > 0) || !std::isfinite(cell_size)) cell_size = std::max(hi[0] - lo[0], 1e-3);
+  if (!(cell_size > 0) || !std::isfinite(cell_size))
+    cell_size = std::max(hi[0] - lo[0], 1e-3);
   const CellGrid grid = make_cell_grid(lo, hi, cell_size, 8'000'000);
   const CellBins bins = sort_particles_by_cell(particles, grid);
   PairList fresh_pairs = build_pair_list(particles, bins, list_skin);
-  if (pairs.pair_count > 0) transfer_pair_history(fresh_pairs, pairs, old_rows, particles.id);
+  if (pairs.pair_count > 0)
+    transfer_pair_history(fresh_pairs, pairs, old_rows, particles.id);
   pairs = fresh_pairs;
   WallContactList fresh_walls = build_wall_contact_list(particles, walls, list_skin);
   if (wall_contacts.entry_count > 0)
@@ -351,7 +383,8 @@ void Engine::State::compute_forces() {
     apply_gravity_and_wall_forces<true>(particles, walls, wall_contacts, coefficients, gravity, dt);
     compute_sphere_pair_forces<true>(particles, pairs, coefficients, dt);
   } else {
-    apply_gravity_and_wall_forces<false>(particles, walls, wall_contacts, coefficients, gravity, dt);
+    apply_gravity_and_wall_forces<false>(particles, walls, wall_contacts, coefficients, gravity,
+                                         dt);
     compute_sphere_pair_forces<false>(particles, pairs, coefficients, dt);
   }
   gather_pair_forces(particles, pairs);
@@ -359,7 +392,8 @@ void Engine::State::compute_forces() {
 
 void Engine::State::compute_forces_at_current_state() {
   update_wall_poses(walls, time);
-  if (lists_are_stale()) rebuild_lists();
+  if (lists_are_stale())
+    rebuild_lists();
   compute_forces();
 }
 
@@ -367,10 +401,13 @@ void Engine::State::insert_due_particles() {
   for (std::size_t k = 0; k < sources.size(); ++k) {
     const ParticleSourceConfig& src = scene.sources[k];
     SourceState& st = sources[k];
-    if (src.rate <= 0 || st.inserted >= src.count || time < st.next_insertion) continue;
+    if (src.rate <= 0 || st.inserted >= src.count || time < st.next_insertion)
+      continue;
     st.owed += src.rate * src.interval;
-    const std::int64_t batch = std::min<std::int64_t>(std::int64_t(st.owed), src.count - st.inserted);
-    const std::vector<ParticleSeed> seeds = generate_particles(src, batch, current_obstacles(), st.rng);
+    const std::int64_t batch =
+        std::min<std::int64_t>(std::int64_t(st.owed), src.count - st.inserted);
+    const std::vector<ParticleSeed> seeds =
+        generate_particles(src, batch, current_obstacles(), st.rng);
     st.owed -= double(seeds.size());
     st.inserted += std::int64_t(seeds.size());
     st.next_insertion += src.interval;
@@ -379,11 +416,13 @@ void Engine::State::insert_due_particles() {
 }
 
 void Engine::State::remove_discharged_particles() {
-  if (outlet_count == 0 || particles.count == 0) return;
+  if (outlet_count == 0 || particles.count == 0)
+    return;
   IndexView keep("keep", particles.count);
   double removed_mass = 0;
   const int removed = mark_discharged(particles, outlets, outlet_count, keep, removed_mass);
-  if (removed == 0) return;
+  if (removed == 0)
+    return;
   int kept = 0;
   const IndexView source = kept_indices(keep, kept);
   permute_particles(particles, source, kept);
@@ -392,31 +431,51 @@ void Engine::State::remove_discharged_particles() {
   needs_rebuild = true;
 }
 
-void Engine::step() { state_->step(); }
+void Engine::step() {
+  state_->step();
+}
 
 void Engine::State::step() {
   kick_and_drift(particles, dt);
   time = double(step_count + 1) * dt;
   insert_due_particles();
-  if ((step_count + 1) % outlet_check_interval == 0) remove_discharged_particles();
+  if ((step_count + 1) % outlet_check_interval == 0)
+    remove_discharged_particles();
   compute_forces_at_current_state();
   kick(particles, dt);
   ++step_count;
 }
 
 void Engine::advance(std::int64_t steps) {
-  for (std::int64_t k = 0; k < steps; ++k) state_->step();
+  for (std::int64_t k = 0; k < steps; ++k)
+    state_->step();
 }
 
-double Engine::time() const { return state_->time; }
-std::int64_t Engine::step_count() const { return state_->step_count; }
-int Engine::particle_count() const { return state_->particles.count; }
-double Engine::time_step() const { return state_->dt; }
-double Engine::skin() const { return state_->effective_skin(); }
-void Engine::set_rebuild_every_step(bool every_step) { state_->rebuild_every_step = every_step; }
+double Engine::time() const {
+  return state_->time;
+}
+std::int64_t Engine::step_count() const {
+  return state_->step_count;
+}
+int Engine::particle_count() const {
+  return state_->particles.count;
+}
+double Engine::time_step() const {
+  return state_->dt;
+}
+double Engine::skin() const {
+  return state_->effective_skin();
+}
+void Engine::set_rebuild_every_step(bool every_step) {
+  state_->rebuild_every_step = every_step;
+}
 
-std::string Engine::backend_name() { return ExecSpace::name(); }
-int Engine::backend_concurrency() { return ExecSpace().concurrency(); }
+std::string Engine::backend_name() {
+  return ExecSpace::name();
+}
+int Engine::backend_concurrency() {
+  return ExecSpace().concurrency();
+}
 
 Diagnostics Engine::diagnostics() const {
   const State& s = *state_;
@@ -444,7 +503,8 @@ ParticleSnapshot Engine::State::make_snapshot() const {
   const ParticleViews& p = particles;
   snap.step = step_count;
   snap.time = time;
-  if (p.count == 0) return snap;
+  if (p.count == 0)
+    return snap;
   snap.position = flatten_to_host(p.position, p.count);
   snap.velocity = flatten_to_host(p.velocity, p.count);
   snap.angular_velocity = flatten_to_host(p.angular_velocity, p.count);
@@ -456,7 +516,9 @@ ParticleSnapshot Engine::State::make_snapshot() const {
   return snap;
 }
 
-ParticleSnapshot Engine::snapshot() const { return state_->make_snapshot(); }
+ParticleSnapshot Engine::snapshot() const {
+  return state_->make_snapshot();
+}
 
 std::vector<WallSurface> Engine::wall_surfaces() const {
   const State& s = *state_;
@@ -489,25 +551,30 @@ TimeStepAdvice Engine::time_step_advice() const {
   const State& s = *state_;
   TimeStepAdvice advice;
   const double r = s.smallest_radius < 1e300 ? s.smallest_radius : s.largest_radius;
-  if (!(r > 0)) return advice;
+  if (!(r > 0))
+    return advice;
   double height = s.domain_max[2] - s.domain_min[2];
   advice.reference_speed = std::max(1.0, std::sqrt(2 * 9.81 * std::max(height, 0.0)));
   for (const ParticleSourceConfig& src : s.scene.sources)
-    advice.reference_speed = std::max(advice.reference_speed, std::sqrt(src.velocity[0] * src.velocity[0] +
-                                                                       src.velocity[1] * src.velocity[1] +
-                                                                       src.velocity[2] * src.velocity[2]));
+    advice.reference_speed =
+        std::max(advice.reference_speed,
+                 std::sqrt(src.velocity[0] * src.velocity[0] + src.velocity[1] * src.velocity[1] +
+                           src.velocity[2] * src.velocity[2]));
   advice.rayleigh = 1e300;
   advice.hertz = 1e300;
   for (const MaterialConfig& m : s.scene.materials) {
     const double shear = m.youngs_modulus / (2 * (1 + m.poisson_ratio));
-    advice.rayleigh = std::min(advice.rayleigh, pi * r * std::sqrt(m.density / shear) / (0.1631 * m.poisson_ratio + 0.8766));
+    advice.rayleigh = std::min(advice.rayleigh, pi * r * std::sqrt(m.density / shear) /
+                                                    (0.1631 * m.poisson_ratio + 0.8766));
     const double mass = m.density * sphere_volume(r);
     const double m_eff = 0.5 * mass, r_eff = 0.5 * r;
     const double e_eff = m.youngs_modulus / (2 * (1 - m.poisson_ratio * m.poisson_ratio));
-    advice.hertz = std::min(advice.hertz, 2.87 * std::pow(m_eff * m_eff / (r_eff * e_eff * e_eff * advice.reference_speed), 0.2));
+    advice.hertz = std::min(
+        advice.hertz,
+        2.87 * std::pow(m_eff * m_eff / (r_eff * e_eff * e_eff * advice.reference_speed), 0.2));
   }
   advice.suggested = std::min(0.2 * advice.rayleigh, 0.1 * advice.hertz);
   return advice;
 }
 
-}  // namespace kdem
+} // namespace kdem

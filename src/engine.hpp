@@ -25,26 +25,26 @@ struct Diagnostics {
   std::int64_t step = 0;
   double time = 0;
   int particles = 0;
-  double translational_energy = 0;  // J
-  double rotational_energy = 0;     // J
-  double potential_energy = 0;      // J, gravity, relative to the origin
+  double translational_energy = 0; // J
+  double rotational_energy = 0;    // J
+  double potential_energy = 0;     // J, gravity, relative to the origin
   int pair_contacts = 0;
   int wall_contacts = 0;
-  double largest_overlap_ratio = 0;  // overlap / radius, largest in the current step
-  double discharged_mass = 0;        // kg, removed by outlets so far
+  double largest_overlap_ratio = 0; // overlap / radius, largest in the current step
+  double discharged_mass = 0;       // kg, removed by outlets so far
   std::int64_t discharged_count = 0;
   std::int64_t list_builds = 0;
 };
 
 struct TimeStepAdvice {
-  double rayleigh = 0;    // s, Rayleigh wave time of the smallest particle
-  double hertz = 0;       // s, Hertz contact duration at the reference impact speed
-  double suggested = 0;   // s, min(0.2 rayleigh, 0.1 hertz)
-  double reference_speed = 0;  // m/s
+  double rayleigh = 0;        // s, Rayleigh wave time of the smallest particle
+  double hertz = 0;           // s, Hertz contact duration at the reference impact speed
+  double suggested = 0;       // s, min(0.2 rayleigh, 0.1 hertz)
+  double reference_speed = 0; // m/s
 };
 
 class Engine {
- public:
+public:
   // Builds materials, walls and outlets, and places the particles of every source that is not
   // inserted over time. Throws std::runtime_error with a readable message on impossible input.
   explicit Engine(const SceneConfig& scene);
@@ -78,9 +78,9 @@ class Engine {
   static std::string backend_name();
   static int backend_concurrency();
 
- private:
+private:
   struct State;
   std::unique_ptr<State> state_;
 };
 
-}  // namespace kdem
+} // namespace kdem

@@ -18,8 +18,8 @@ struct SourceState {
   std::mt19937_64 rng;
   int material = 0;
   std::int64_t inserted = 0;
-  double next_insertion = 0;  // s
-  double owed = 0;            // particles due but not yet placed
+  double next_insertion = 0; // s
+  double owed = 0;           // particles due but not yet placed
 };
 
 struct Engine::State {
@@ -31,14 +31,14 @@ struct Engine::State {
   Vec3d domain_min{0, 0, 0}, domain_max{0, 0, 0};
   double largest_radius = 0;
   double smallest_radius = std::numeric_limits<double>::infinity();
-  double skin = 0;  // 0: half the smallest radius
+  double skin = 0; // 0: half the smallest radius
 
   bool rolling = false;
   CoefficientTable coefficients;
   ParticleViews particles;
   std::int64_t next_id = 0;
   PairList pairs;
-  IdView ids_at_build;  // particle ids in the order the lists were built for
+  IdView ids_at_build; // particle ids in the order the lists were built for
   WallContactList wall_contacts;
   WallElementTable table;
   std::vector<WallMotionData> motions;
@@ -79,4 +79,4 @@ struct Engine::State {
   ParticleSnapshot make_snapshot() const;
 };
 
-}  // namespace kdem
+} // namespace kdem

@@ -11,7 +11,7 @@ namespace kdem {
 struct ParticleSeed {
   Vec3d position{0, 0, 0};
   Vec3d velocity{0, 0, 0};
-  std::array<double, 4> orientation{1, 0, 0, 0};  // unit quaternion (w, x, y, z)
+  std::array<double, 4> orientation{1, 0, 0, 0}; // unit quaternion (w, x, y, z)
   double radius = 0;
 };
 
@@ -26,9 +26,9 @@ struct Obstacles {
 // has a volume_fraction, it also stops once the placed solid volume reaches that fraction of
 // the region volume. It gives up after `max_failed_attempts` consecutive rejected trials and
 // returns what it placed. Deterministic for a given rng state.
-std::vector<ParticleSeed> generate_particles(const ParticleSourceConfig& source, std::int64_t max_new,
-                                             const Obstacles& obstacles, std::mt19937_64& rng,
-                                             int max_failed_attempts = 2000);
+std::vector<ParticleSeed> generate_particles(const ParticleSourceConfig& source,
+                                             std::int64_t max_new, const Obstacles& obstacles,
+                                             std::mt19937_64& rng, int max_failed_attempts = 2000);
 
 // Draws one radius from the source's size distribution. Discrete mixtures are given by mass
 // fraction, so class k is drawn with probability proportional to fraction_k / r_k^3.
@@ -41,4 +41,4 @@ double smallest_possible_radius(const SizeDistributionConfig& sizes);
 // Volume of a region, m^3.
 double region_volume(const RegionConfig& region);
 
-}  // namespace kdem
+} // namespace kdem

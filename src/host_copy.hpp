@@ -7,8 +7,7 @@
 
 namespace kdem {
 
-template <class View>
-constexpr int columns_of(const View& view) {
+template <class View> constexpr int columns_of(const View& view) {
   if constexpr (View::rank == 1)
     return 1;
   else
@@ -32,8 +31,8 @@ std::vector<typename View::non_const_value_type> flatten_to_host(const View& vie
 
 // A new View named `label` holding `values` (rows = values.size() / columns).
 template <class View>
-View view_from_host(const std::string& label, const std::vector<typename View::non_const_value_type>& values,
-                    int columns) {
+View view_from_host(const std::string& label,
+                    const std::vector<typename View::non_const_value_type>& values, int columns) {
   const int rows = columns > 0 ? int(values.size() / columns) : 0;
   View view(label, rows);
   auto mirror = Kokkos::create_mirror_view(view);
@@ -48,4 +47,4 @@ View view_from_host(const std::string& label, const std::vector<typename View::n
   return view;
 }
 
-}  // namespace kdem
+} // namespace kdem

@@ -26,7 +26,8 @@ Arguments parse(int argc, char** argv) {
   Arguments args;
   std::vector<std::string> words;
   for (int k = 1; k < argc; ++k)
-    if (std::strncmp(argv[k], "--kokkos", 8) != 0) words.emplace_back(argv[k]);
+    if (std::strncmp(argv[k], "--kokkos", 8) != 0)
+      words.emplace_back(argv[k]);
   if (words.empty()) {
     args.ok = false;
     return args;
@@ -57,7 +58,7 @@ Arguments parse(int argc, char** argv) {
   return args;
 }
 
-}  // namespace
+} // namespace
 
 int main(int argc, char** argv) {
   Arguments args;
@@ -70,7 +71,8 @@ int main(int argc, char** argv) {
     std::printf("kdem %s (%s)\n", KDEM_VERSION, KDEM_GIT_HASH);
     return 0;
   }
-  if (!args.ok || (args.command != "run" && args.command != "check") || args.run.scene_path.empty()) {
+  if (!args.ok || (args.command != "run" && args.command != "check") ||
+      args.run.scene_path.empty()) {
     std::fputs(usage, stderr);
     return 2;
   }
@@ -78,6 +80,7 @@ int main(int argc, char** argv) {
   setenv("OMP_PROC_BIND", "spread", 0);
   setenv("OMP_PLACES", "threads", 0);
   Kokkos::ScopeGuard kokkos(argc, argv);
-  if (args.command == "check") return kdem::check_scene(args.run.scene_path);
+  if (args.command == "check")
+    return kdem::check_scene(args.run.scene_path);
   return kdem::run_scene(args.run);
 }

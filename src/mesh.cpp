@@ -16,11 +16,15 @@ namespace {
 
 using Point = std::array<double, 3>;
 
-Point minus(const Point& a, const Point& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+Point minus(const Point& a, const Point& b) {
+  return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
 Point cross3(const Point& a, const Point& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
-double dot3(const Point& a, const Point& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+double dot3(const Point& a, const Point& b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 Point unit(const Point& a) {
   const double n = std::sqrt(dot3(a, a));
   return {a[0] / n, a[1] / n, a[2] / n};
@@ -29,7 +33,8 @@ Point unit(const Point& a) {
 double bounding_diagonal(const TriangleMesh& mesh) {
   Point lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
   for (const Point& p : mesh.points)
-    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
+    for (int a = 0; a < 3; ++a)
+      lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
   const Point d = minus(hi, lo);
   return std::sqrt(dot3(d, d));
 }
@@ -40,19 +45,22 @@ Point outward_in_plane(const TriangleMesh& mesh, int t, int a, int b) {
   const auto& tri = mesh.triangles[t];
   int third = tri[0];
   for (int v : tri)
-    if (v != a && v != b) third = v;
+    if (v != a && v != b)
+      third = v;
   const Point edge = minus(mesh.points[b], mesh.points[a]);
   const Point normal = cross3(minus(mesh.points[tri[1]], mesh.points[tri[0]]),
                               minus(mesh.points[tri[2]], mesh.points[tri[0]]));
   Point out = unit(cross3(edge, normal));
-  if (dot3(out, minus(mesh.points[third], mesh.points[a])) > 0) out = {-out[0], -out[1], -out[2]};
+  if (dot3(out, minus(mesh.points[third], mesh.points[a])) > 0)
+    out = {-out[0], -out[1], -out[2]};
   return out;
 }
 
-}  // namespace
+} // namespace
 
 TriangleMesh read_stl(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw std::runtime_error(path + ": STL file not found");
+  if (!std::filesystem::exists(path))
+    throw std::runtime_error(path + ": STL file not found");
   vtkNew<vtkSTLReader> reader;
   reader->SetFileName(path.c_str());
   reader->MergingOff();
@@ -69,8 +77,10 @@ TriangleMesh read_stl(const std::string& path) {
   vtkIdType count = 0;
   const vtkIdType* ids = nullptr;
   while (polys->GetNextCell(count, ids))
-    if (count == 3) mesh.triangles.push_back({int(ids[0]), int(ids[1]), int(ids[2])});
-  if (mesh.triangles.empty()) throw std::runtime_error(path + ": no triangles read (is it an STL file?)");
+    if (count == 3)
+      mesh.triangles.push_back({int(ids[0]), int(ids[1]), int(ids[2])});
+  if (mesh.triangles.empty())
+    throw std::runtime_error(path + ": no triangles read (is it an STL file?)");
   return weld(mesh, 1e-9 * bounding_diagonal(mesh));
 }
 
@@ -81,17 +91,21 @@ TriangleMesh weld(const TriangleMesh& mesh, double tolerance) {
   const double cell = tolerance > 0 ? tolerance : 1e-300;
   for (std::size_t p = 0; p < mesh.points.size(); ++p) {
     std::array<long long, 3> key;
-    for (int a = 0; a < 3; ++a) key[a] = std::llround(mesh.points[p][a] / cell);
+    for (int a = 0; a < 3; ++a)
+      key[a] = std::llround(mesh.points[p][a] / cell);
     auto [it, inserted] = index_of_key.emplace(key, int(result.points.size()));
-    if (inserted) result.points.push_back(mesh.points[p]);
+    if (inserted)
+      result.points.push_back(mesh.points[p]);
     new_index[p] = it->second;
   }
   for (const auto& t : mesh.triangles) {
     const std::array<int, 3> mapped{new_index[t[0]], new_index[t[1]], new_index[t[2]]};
-    if (mapped[0] == mapped[1] || mapped[1] == mapped[2] || mapped[0] == mapped[2]) continue;
+    if (mapped[0] == mapped[1] || mapped[1] == mapped[2] || mapped[0] == mapped[2])
+      continue;
     const Point n = cross3(minus(result.points[mapped[1]], result.points[mapped[0]]),
                            minus(result.points[mapped[2]], result.points[mapped[0]]));
-    if (dot3(n, n) == 0) continue;
+    if (dot3(n, n) == 0)
+      continue;
     result.triangles.push_back(mapped);
   }
   return result;
@@ -122,7 +136,8 @@ MeshTopology build_topology(const TriangleMesh& mesh) {
   for (std::size_t e = 0; e < topo.edge_vertices.size(); ++e) {
     const auto [a, b] = topo.edge_vertices[e];
     std::array<double, 6> outward{};
-    for (std::size_t side = 0; side < std::min<std::size_t>(2, topo.edge_triangles[e].size()); ++side) {
+    for (std::size_t side = 0; side < std::min<std::size_t>(2, topo.edge_triangles[e].size());
+         ++side) {
       const Point out = outward_in_plane(mesh, topo.edge_triangles[e][side], a, b);
       std::copy(out.begin(), out.end(), outward.begin() + 3 * side);
     }
@@ -136,4 +151,4 @@ MeshTopology build_topology(const TriangleMesh& mesh) {
   return topo;
 }
 
-}  // namespace kdem
+} // namespace kdem

@@ -20,16 +20,16 @@ TriangleMesh read_stl(const std::string& path);
 TriangleMesh weld(const TriangleMesh& mesh, double tolerance);
 
 struct MeshTopology {
-  std::vector<std::array<int, 3>> triangle_edges;  // edges ab, bc, ca of each triangle
+  std::vector<std::array<int, 3>> triangle_edges; // edges ab, bc, ca of each triangle
   std::vector<std::array<int, 2>> edge_vertices;
-  std::vector<std::vector<int>> edge_triangles;    // adjacent triangles of each edge
-  std::vector<std::array<double, 3>> edge_direction;  // unit, from edge_vertices[0] to [1]
-  std::vector<std::array<double, 6>> edge_outward; // per adjacent triangle (first two), unit
-                                                   // in-plane direction away from the triangle
+  std::vector<std::vector<int>> edge_triangles;      // adjacent triangles of each edge
+  std::vector<std::array<double, 3>> edge_direction; // unit, from edge_vertices[0] to [1]
+  std::vector<std::array<double, 6>> edge_outward;   // per adjacent triangle (first two), unit
+                                                     // in-plane direction away from the triangle
   std::vector<std::vector<int>> vertex_triangles;
   std::vector<std::vector<std::array<double, 3>>> vertex_edge_directions;
 };
 
 MeshTopology build_topology(const TriangleMesh& mesh);
 
-}  // namespace kdem
+} // namespace kdem

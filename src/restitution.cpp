@@ -27,10 +27,10 @@ ScaledState rk4_step(const ScaledState& s, double damping, double h) {
           s.rate + h / 6 * (k1.rate + 2 * k2.rate + 2 * k3.rate + k4.rate)};
 }
 
-}  // namespace
+} // namespace
 
 double restitution_for_damping(double gamma) {
-  const double h = 2e-4;  // elastic contact lasts about 3.2 scaled time units
+  const double h = 2e-4; // elastic contact lasts about 3.2 scaled time units
   ScaledState s{0.0, 1.0};
   for (long step = 0; step < 50'000'000; ++step) {
     const ScaledState next = rk4_step(s, gamma, h);
@@ -38,16 +38,18 @@ double restitution_for_damping(double gamma) {
       const double fraction = s.overlap / (s.overlap - next.overlap);
       return -(s.rate + fraction * (next.rate - s.rate));
     }
-    if (next.rate >= 0 && next.overlap <= 0) return 0.0;
+    if (next.rate >= 0 && next.overlap <= 0)
+      return 0.0;
     s = next;
   }
   return 0.0;
 }
 
 double damping_for_restitution(double e) {
-  if (!(e > 0 && e <= 1)) throw std::invalid_argument("restitution must lie in (0, 1]");
+  if (!(e > 0 && e <= 1))
+    throw std::invalid_argument("restitution must lie in (0, 1]");
   const double log_e = std::log(e);
   return -2.0 * std::sqrt(5.0 / 6.0) * log_e / std::sqrt(log_e * log_e + M_PI * M_PI);
 }
 
-}  // namespace kdem
+} // namespace kdem

@@ -16,4 +16,4 @@ double damping_for_restitution(double e);
 // Restitution of the scaled Hertz impact with damping coefficient gamma (>= 0), by RK4.
 double restitution_for_damping(double gamma);
 
-}  // namespace kdem
+} // namespace kdem

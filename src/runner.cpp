@@ -26,18 +26,32 @@ std::string numbered(const std::string& stem, std::int64_t number, const std::st
   return stem + "_" + digits + extension;
 }
 
-const std::vector<std::string> series_columns = {
-    "step",          "time",          "translational_energy", "rotational_energy",
-    "potential_energy", "particles",  "pair_contacts",        "wall_contacts",
-    "largest_overlap_ratio", "discharged_mass", "discharged_count", "list_builds"};
+const std::vector<std::string> series_columns = {"step",
+                                                 "time",
+                                                 "translational_energy",
+                                                 "rotational_energy",
+                                                 "potential_energy",
+                                                 "particles",
+                                                 "pair_contacts",
+                                                 "wall_contacts",
+                                                 "largest_overlap_ratio",
+                                                 "discharged_mass",
+                                                 "discharged_count",
+                                                 "list_builds"};
 
 std::vector<double> series_row(const Diagnostics& d) {
-  return {double(d.step),         d.time,
-          d.translational_energy, d.rotational_energy,
-          d.potential_energy,     double(d.particles),
-          double(d.pair_contacts), double(d.wall_contacts),
-          d.largest_overlap_ratio, d.discharged_mass,
-          double(d.discharged_count), double(d.list_builds)};
+  return {double(d.step),
+          d.time,
+          d.translational_energy,
+          d.rotational_energy,
+          d.potential_energy,
+          double(d.particles),
+          double(d.pair_contacts),
+          double(d.wall_contacts),
+          d.largest_overlap_ratio,
+          d.discharged_mass,
+          double(d.discharged_count),
+          double(d.list_builds)};
 }
 
 bool finite_state(const Diagnostics& d) {
@@ -47,37 +61,40 @@ bool finite_state(const Diagnostics& d) {
 
 // Steps between two events spaced `interval` seconds apart (at least one step).
 std::int64_t steps_per(double interval, double dt, std::int64_t fallback) {
-  if (!(interval > 0)) return fallback;
+  if (!(interval > 0))
+    return fallback;
   return std::max<std::int64_t>(1, std::llround(interval / dt));
 }
 
 void warn_about_time_step(const Engine& engine, bool quiet) {
   const TimeStepAdvice advice = engine.time_step_advice();
-  if (quiet || !(advice.suggested > 0) || engine.time_step() <= advice.suggested) return;
-  std::fprintf(stderr,
-               "warning: time_step %.3g s exceeds the suggested %.3g s (20%% of the Rayleigh time %.3g s, "
-               "10%% of the Hertz contact time %.3g s at %.2g m/s)\n",
-               engine.time_step(), advice.suggested, advice.rayleigh, advice.hertz, advice.reference_speed);
+  if (quiet || !(advice.suggested > 0) || engine.time_step() <= advice.suggested)
+    return;
+  std::fprintf(
+      stderr,
+      "warning: time_step %.3g s exceeds the suggested %.3g s (20%% of the Rayleigh time %.3g s, "
+      "10%% of the Hertz contact time %.3g s at %.2g m/s)\n",
+      engine.time_step(), advice.suggested, advice.rayleigh, advice.hertz, advice.reference_speed);
 }
 
 // Particles placed across a wall (a region reaching through it) start with a large overlap
 // and are shot away; say so before the run rather than leave the user to wonder.
 void warn_about_initial_overlaps(const Engine& engine, bool quiet) {
   const Diagnostics d = engine.diagnostics();
-  if (quiet || d.largest_overlap_ratio <= 0.05) return;
-  std::fprintf(stderr,
-               "warning: at the start particles overlap by up to %.0f%% of their radius (%d wall and %d "
-               "particle contacts); does a particle region reach through a wall?\n",
-               100 * d.largest_overlap_ratio, d.wall_contacts, d.pair_contacts);
+  if (quiet || d.largest_overlap_ratio <= 0.05)
+    return;
+  std::fprintf(
+      stderr,
+      "warning: at the start particles overlap by up to %.0f%% of their radius (%d wall and %d "
+      "particle contacts); does a particle region reach through a wall?\n",
+      100 * d.largest_overlap_ratio, d.wall_contacts, d.pair_contacts);
 }
 
 class OutputWriter {
- public:
+public:
   OutputWriter(const fs::path& directory, const SceneConfig& scene, double dt)
-      : directory_(directory),
-        particles_pvd_(directory, "particles"),
-        walls_pvd_(directory, "walls"),
-        series_(directory / "series.csv", series_columns),
+      : directory_(directory), particles_pvd_(directory, "particles"),
+        walls_pvd_(directory, "walls"), series_(directory / "series.csv", series_columns),
         frame_every_(steps_per(scene.output.frame_interval, dt, 0)),
         series_every_(steps_per(scene.output.series_interval, dt, 100)),
         checkpoint_every_(steps_per(scene.output.checkpoint_interval, dt, 0)) {
@@ -86,26 +103,32 @@ class OutputWriter {
 
   void at_step(const Engine& engine, bool first) {
     const std::int64_t step = engine.step_count();
-    if (frame_every_ > 0 && (first || step % frame_every_ == 0)) write_frame(engine);
-    if (first || step % series_every_ == 0) add_series_row(engine);
+    if (frame_every_ > 0 && (first || step % frame_every_ == 0))
+      write_frame(engine);
+    if (first || step % series_every_ == 0)
+      add_series_row(engine);
     if (checkpoint_every_ > 0 && !first && step % checkpoint_every_ == 0) {
       fs::create_directories(directory_ / "checkpoints");
-      engine.write_checkpoint((directory_ / "checkpoints" / numbered("checkpoint", step, ".h5")).string());
+      engine.write_checkpoint(
+          (directory_ / "checkpoints" / numbered("checkpoint", step, ".h5")).string());
     }
   }
 
   void finish(const Engine& engine, bool final_checkpoint) {
     const std::int64_t step = engine.step_count();
-    if (frame_every_ > 0 && step % frame_every_ != 0) write_frame(engine);
-    if (step % series_every_ != 0) add_series_row(engine);
+    if (frame_every_ > 0 && step % frame_every_ != 0)
+      write_frame(engine);
+    if (step % series_every_ != 0)
+      add_series_row(engine);
     series_.flush();
-    if (final_checkpoint) engine.write_checkpoint((directory_ / "checkpoint.h5").string());
+    if (final_checkpoint)
+      engine.write_checkpoint((directory_ / "checkpoint.h5").string());
   }
 
   const Diagnostics& last() const { return last_; }
   double largest_overlap_seen() const { return largest_overlap_; }
 
- private:
+private:
   void write_frame(const Engine& engine) {
     const std::int64_t step = engine.step_count();
     const std::string particle_file = "frames/" + numbered("particles", step, ".vtu");
@@ -145,8 +168,8 @@ class OutputWriter {
   int rows_since_flush_ = 0;
 };
 
-RunSummary summarise(const Engine& engine, const OutputWriter& output, std::int64_t steps, double seconds,
-                     double particle_steps, double initial_energy) {
+RunSummary summarise(const Engine& engine, const OutputWriter& output, std::int64_t steps,
+                     double seconds, double particle_steps, double initial_energy) {
   RunSummary summary;
   summary.version = KDEM_VERSION;
   summary.git_hash = KDEM_GIT_HASH;
@@ -156,30 +179,33 @@ RunSummary summarise(const Engine& engine, const OutputWriter& output, std::int6
   summary.particles = d.particles;
   summary.steps = steps;
   summary.contacts = d.pair_contacts + d.wall_contacts;
-  summary.narrow_phase_failures = 0;  // spheres have a closed-form narrow phase
+  summary.narrow_phase_failures = 0; // spheres have a closed-form narrow phase
   summary.wall_seconds = seconds;
   summary.particle_steps_per_second = seconds > 0 ? particle_steps / seconds : 0;
   summary.largest_overlap_ratio = output.largest_overlap_seen();
   summary.simulated_time = engine.time();
   summary.discharged_mass = d.discharged_mass;
   const double energy = d.translational_energy + d.rotational_energy + d.potential_energy;
-  summary.energy_drift = initial_energy != 0 ? (energy - initial_energy) / std::abs(initial_energy) : 0;
+  summary.energy_drift =
+      initial_energy != 0 ? (energy - initial_energy) / std::abs(initial_energy) : 0;
   summary.extra.push_back({"time_step", engine.time_step()});
   summary.extra.push_back({"list_builds", double(d.list_builds)});
   summary.extra.push_back({"discharged_count", double(d.discharged_count)});
   return summary;
 }
 
-}  // namespace
+} // namespace
 
 int run_scene(const RunOptions& options) {
   std::optional<Engine> engine;
   SceneConfig scene;
   try {
     scene = load_scene(options.scene_path);
-    if (!options.output_directory.empty()) scene.output.directory = options.output_directory;
+    if (!options.output_directory.empty())
+      scene.output.directory = options.output_directory;
     engine.emplace(scene);
-    if (!options.restart_path.empty()) engine->read_checkpoint(options.restart_path);
+    if (!options.restart_path.empty())
+      engine->read_checkpoint(options.restart_path);
   } catch (const std::exception& error) {
     std::fprintf(stderr, "error: %s\n", error.what());
     return 2;
@@ -191,10 +217,12 @@ int run_scene(const RunOptions& options) {
     OutputWriter output(directory, scene, engine->time_step());
     const std::int64_t total_steps = std::llround(scene.duration / scene.time_step);
     std::int64_t remaining = std::max<std::int64_t>(0, total_steps - engine->step_count());
-    if (options.max_steps >= 0) remaining = std::min(remaining, options.max_steps);
+    if (options.max_steps >= 0)
+      remaining = std::min(remaining, options.max_steps);
     output.at_step(*engine, true);
     const Diagnostics& first = output.last();
-    const double initial_energy = first.translational_energy + first.rotational_energy + first.potential_energy;
+    const double initial_energy =
+        first.translational_energy + first.rotational_energy + first.potential_energy;
     ProgressLine progress(options.quiet, engine->step_count() + remaining);
     const auto start = std::chrono::steady_clock::now();
     double particle_steps = 0;
@@ -202,10 +230,13 @@ int run_scene(const RunOptions& options) {
       particle_steps += engine->particle_count();
       engine->step();
       output.at_step(*engine, false);
-      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      progress.update(engine->step_count(), engine->time(), seconds > 0 ? particle_steps / seconds : 0);
+      const double seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      progress.update(engine->step_count(), engine->time(),
+                      seconds > 0 ? particle_steps / seconds : 0);
     }
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     progress.finish();
     output.finish(*engine, scene.output.final_checkpoint);
     write_run_json(directory / "run.json",
@@ -222,11 +253,13 @@ int check_scene(const std::string& scene_path) {
     const SceneConfig scene = load_scene(scene_path);
     Engine engine(scene);
     const TimeStepAdvice advice = engine.time_step_advice();
-    std::printf("%s: %d particles, %zu walls, %zu materials\n", scene_path.c_str(), engine.particle_count(),
-                scene.walls.size(), scene.materials.size());
+    std::printf("%s: %d particles, %zu walls, %zu materials\n", scene_path.c_str(),
+                engine.particle_count(), scene.walls.size(), scene.materials.size());
     std::printf("time step %.3g s; suggested %.3g s (Rayleigh %.3g s, Hertz %.3g s at %.2g m/s)\n",
-                engine.time_step(), advice.suggested, advice.rayleigh, advice.hertz, advice.reference_speed);
-    std::printf("steps %lld, skin %.3g m\n", static_cast<long long>(std::llround(scene.duration / scene.time_step)),
+                engine.time_step(), advice.suggested, advice.rayleigh, advice.hertz,
+                advice.reference_speed);
+    std::printf("steps %lld, skin %.3g m\n",
+                static_cast<long long>(std::llround(scene.duration / scene.time_step)),
                 engine.skin());
   } catch (const std::exception& error) {
     std::fprintf(stderr, "error: %s\n", error.what());
@@ -235,4 +268,4 @@ int check_scene(const std::string& scene_path) {
   return 0;
 }
 
-}  // namespace kdem
+} // namespace kdem

@@ -8,9 +8,9 @@ namespace kdem {
 
 struct RunOptions {
   std::string scene_path;
-  std::string output_directory;  // overrides the scene's output.directory when set
-  std::string restart_path;      // continue from this checkpoint
-  std::int64_t max_steps = -1;   // stop after this many steps of this invocation (tests)
+  std::string output_directory; // overrides the scene's output.directory when set
+  std::string restart_path;     // continue from this checkpoint
+  std::int64_t max_steps = -1;  // stop after this many steps of this invocation (tests)
   bool quiet = false;
 };
 
@@ -21,4 +21,4 @@ int run_scene(const RunOptions& options);
 // `kdem check`: loads and sets up the scene, prints a summary and the time-step advice.
 int check_scene(const std::string& scene_path);
 
-}  // namespace kdem
+} // namespace kdem

@@ -31,20 +31,20 @@ struct InteractionConfig {
 struct SizeDistributionConfig {
   enum class Kind { Monodisperse, Uniform, Gaussian, Discrete };
   Kind kind = Kind::Monodisperse;
-  double radius = 0;              // monodisperse
-  double min_radius = 0;          // uniform, gaussian (truncation)
-  double max_radius = 0;          // uniform, gaussian (truncation)
-  double mean_radius = 0;         // gaussian
-  double std_radius = 0;          // gaussian
-  std::vector<double> radii;           // discrete
-  std::vector<double> mass_fractions;  // discrete, same length as radii, summing to 1
+  double radius = 0;                  // monodisperse
+  double min_radius = 0;              // uniform, gaussian (truncation)
+  double max_radius = 0;              // uniform, gaussian (truncation)
+  double mean_radius = 0;             // gaussian
+  double std_radius = 0;              // gaussian
+  std::vector<double> radii;          // discrete
+  std::vector<double> mass_fractions; // discrete, same length as radii, summing to 1
 };
 
 struct RegionConfig {
   enum class Kind { Box, Cylinder };
   Kind kind = Kind::Box;
-  Vec3d min{0, 0, 0}, max{0, 0, 0};  // box
-  Vec3d base_center{0, 0, 0};        // cylinder: axis along +z from base_center
+  Vec3d min{0, 0, 0}, max{0, 0, 0}; // box
+  Vec3d base_center{0, 0, 0};       // cylinder: axis along +z from base_center
   double radius = 0;
   double height = 0;
 };
@@ -54,10 +54,10 @@ struct ParticleSourceConfig {
   std::string material;
   SizeDistributionConfig sizes;
   RegionConfig region;
-  std::int64_t count = 0;          // particles to place; 0 when volume_fraction is used
-  double volume_fraction = 0;      // target solid fraction of the region; 0 when count is used
+  std::int64_t count = 0;     // particles to place; 0 when volume_fraction is used
+  double volume_fraction = 0; // target solid fraction of the region; 0 when count is used
   bool random_orientation = true;
-  Vec3d velocity{0, 0, 0};         // initial velocity, m/s
+  Vec3d velocity{0, 0, 0}; // initial velocity, m/s
   std::uint64_t seed = 1;
   // Insertion over time ("rain"): when rate > 0, particles are inserted at `rate` per second
   // from `start` on, in batches every `interval` seconds, until `count` are in.
@@ -67,12 +67,14 @@ struct ParticleSourceConfig {
 };
 
 struct MotionConfig {
-  Vec3d velocity{0, 0, 0};        // m/s, constant translation
-  Vec3d axis_point{0, 0, 0};      // a point of the rotation axis (reference position)
-  Vec3d axis_direction{0, 0, 1};  // rotation axis (normalised by the loader)
-  double rpm = 0;                 // revolutions per minute, right-handed about axis_direction
-  double start = 0;               // s, motion begins
-  bool moves() const { return rpm != 0 || velocity[0] != 0 || velocity[1] != 0 || velocity[2] != 0; }
+  Vec3d velocity{0, 0, 0};       // m/s, constant translation
+  Vec3d axis_point{0, 0, 0};     // a point of the rotation axis (reference position)
+  Vec3d axis_direction{0, 0, 1}; // rotation axis (normalised by the loader)
+  double rpm = 0;                // revolutions per minute, right-handed about axis_direction
+  double start = 0;              // s, motion begins
+  bool moves() const {
+    return rpm != 0 || velocity[0] != 0 || velocity[1] != 0 || velocity[2] != 0;
+  }
 };
 
 struct WallConfig {
@@ -93,36 +95,36 @@ struct WallConfig {
   double radius = 0;
   double length = 0;
   // mesh: STL file (path relative to the scene file), scaled then translated
-  std::string file;  // as loaded: absolute, resolved against the scene file's folder
+  std::string file; // as loaded: absolute, resolved against the scene file's folder
   double scale = 1;
   Vec3d translate{0, 0, 0};
   MotionConfig motion;
-  double active_from = 0;     // s
-  double active_until = 1e300;  // s; a gate that opens is a wall with active_until
+  double active_from = 0;      // s
+  double active_until = 1e300; // s; a gate that opens is a wall with active_until
 };
 
 struct OutletConfig {
   std::string name;
-  Vec3d min{0, 0, 0}, max{0, 0, 0};  // particles whose centre enters this box are removed
+  Vec3d min{0, 0, 0}, max{0, 0, 0}; // particles whose centre enters this box are removed
 };
 
 struct OutputConfig {
   std::string directory = "out";
-  double frame_interval = 0;       // s between .vtu frames; 0 = no frames
-  double series_interval = 0;      // s between series.csv rows; 0 = every 100 steps
-  double checkpoint_interval = 0;  // s between HDF5 checkpoints; 0 = only at the end
+  double frame_interval = 0;      // s between .vtu frames; 0 = no frames
+  double series_interval = 0;     // s between series.csv rows; 0 = every 100 steps
+  double checkpoint_interval = 0; // s between HDF5 checkpoints; 0 = only at the end
   bool final_checkpoint = true;
 };
 
 struct SceneConfig {
-  std::string source_file;  // for messages
+  std::string source_file; // for messages
   Vec3d gravity{0, 0, -9.81};
-  double time_step = 0;     // s
-  double duration = 0;      // s of simulated time
-  double skin = 0;          // m, Verlet skin; when the file has none, the loader sets 0.1 x the
-                            // smallest particle radius of the scene
+  double time_step = 0; // s
+  double duration = 0;  // s of simulated time
+  double skin = 0;      // m, Verlet skin; when the file has none, the loader sets 0.1 x the
+                        // smallest particle radius of the scene
   bool has_domain = false;
-  Vec3d domain_min{0, 0, 0}, domain_max{0, 0, 0};  // else derived from walls and regions
+  Vec3d domain_min{0, 0, 0}, domain_max{0, 0, 0}; // else derived from walls and regions
   std::vector<MaterialConfig> materials;
   std::vector<InteractionConfig> interactions;
   std::vector<ParticleSourceConfig> sources;
@@ -131,4 +133,4 @@ struct SceneConfig {
   OutputConfig output;
 };
 
-}  // namespace kdem
+} // namespace kdem

@@ -8,24 +8,24 @@ namespace kdem {
 
 struct ParticleSnapshot {
   std::int64_t step = 0;
-  double time = 0;  // s
+  double time = 0; // s
   // N rows each; vectors flattened row-major (x0, y0, z0, x1, ...).
-  std::vector<double> position;          // 3N, m
-  std::vector<double> velocity;          // 3N, m/s
-  std::vector<double> angular_velocity;  // 3N, rad/s, world frame
-  std::vector<double> quaternion;        // 4N, (w, x, y, z), body to world
-  std::vector<double> radius;            // N, m (bounding radius)
-  std::vector<int> shape;                // N, shape template id (0 = sphere)
-  std::vector<int> material;             // N
-  std::vector<std::int64_t> id;          // N, stable particle id
+  std::vector<double> position;         // 3N, m
+  std::vector<double> velocity;         // 3N, m/s
+  std::vector<double> angular_velocity; // 3N, rad/s, world frame
+  std::vector<double> quaternion;       // 4N, (w, x, y, z), body to world
+  std::vector<double> radius;           // N, m (bounding radius)
+  std::vector<int> shape;               // N, shape template id (0 = sphere)
+  std::vector<int> material;            // N
+  std::vector<std::int64_t> id;         // N, stable particle id
   std::size_t size() const { return radius.size(); }
 };
 
 // A wall's surface as triangles in world coordinates at one instant.
 struct WallSurface {
   std::string name;
-  std::vector<double> points;  // 3 per point, m
-  std::vector<int> triangles;  // 3 point indices per triangle
+  std::vector<double> points; // 3 per point, m
+  std::vector<int> triangles; // 3 point indices per triangle
 };
 
-}  // namespace kdem
+} // namespace kdem

@@ -14,14 +14,24 @@ constexpr double two_pi = 6.283185307179586;
 // Kinds as in kernels/walls.hpp (WallElementKind).
 constexpr int plane_kind = 0, cylinder_kind = 1, triangle_kind = 2;
 
-Vec3d sub(const Vec3d& a, const Vec3d& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Vec3d add(const Vec3d& a, const Vec3d& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
-Vec3d scaled(const Vec3d& a, double s) { return {s * a[0], s * a[1], s * a[2]}; }
-double dot(const Vec3d& a, const Vec3d& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Vec3d sub(const Vec3d& a, const Vec3d& b) {
+  return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+Vec3d add(const Vec3d& a, const Vec3d& b) {
+  return {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+}
+Vec3d scaled(const Vec3d& a, double s) {
+  return {s * a[0], s * a[1], s * a[2]};
+}
+double dot(const Vec3d& a, const Vec3d& b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 Vec3d cross(const Vec3d& a, const Vec3d& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
-Vec3d unit(const Vec3d& a) { return scaled(a, 1.0 / std::sqrt(dot(a, a))); }
+Vec3d unit(const Vec3d& a) {
+  return scaled(a, 1.0 / std::sqrt(dot(a, a)));
+}
 
 // Two unit vectors completing `n` to an orthonormal basis.
 std::pair<Vec3d, Vec3d> tangent_basis(const Vec3d& n) {
@@ -50,18 +60,20 @@ void add_plane(WallElementTable& t, int wall, const Vec3d& origin, const Vec3d& 
   t.features.push_back({-1, -1, -1, -1, -1, -1});
 }
 
-void draw_plane_patch(SurfaceBuilder& s, const Vec3d& origin, const Vec3d& normal, double half_size) {
+void draw_plane_patch(SurfaceBuilder& s, const Vec3d& origin, const Vec3d& normal,
+                      double half_size) {
   const auto basis = tangent_basis(normal);
   const Vec3d u = basis.first, v = basis.second;
   auto corner = [&](double a, double b) { return add(origin, add(scaled(u, a), scaled(v, b))); };
-  s.add_quad(corner(-half_size, -half_size), corner(half_size, -half_size), corner(half_size, half_size),
-             corner(-half_size, half_size));
+  s.add_quad(corner(-half_size, -half_size), corner(half_size, -half_size),
+             corner(half_size, half_size), corner(-half_size, half_size));
 }
 
 void add_box(WallElementTable& t, SurfaceBuilder& s, int wall, const WallConfig& c) {
   static const char* names[6] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
   for (int face = 0; face < 6; ++face) {
-    if (std::find(c.open_faces.begin(), c.open_faces.end(), names[face]) != c.open_faces.end()) continue;
+    if (std::find(c.open_faces.begin(), c.open_faces.end(), names[face]) != c.open_faces.end())
+      continue;
     const int axis = face / 2;
     const bool upper = face % 2 == 1;
     Vec3d origin = upper ? c.max : c.min;
@@ -92,7 +104,8 @@ void add_cylinder(WallElementTable& t, SurfaceBuilder& s, int wall, const WallCo
   for (int k = 0; k < segments; ++k) {
     auto rim = [&](int m, double along) {
       const double phi = two_pi * m / segments;
-      return add(add(b, scaled(a, along)), add(scaled(u, c.radius * std::cos(phi)), scaled(v, c.radius * std::sin(phi))));
+      return add(add(b, scaled(a, along)),
+                 add(scaled(u, c.radius * std::cos(phi)), scaled(v, c.radius * std::sin(phi))));
     };
     s.add_quad(rim(k, 0), rim(k + 1, 0), rim(k + 1, c.length), rim(k, c.length));
   }
@@ -101,7 +114,8 @@ void add_cylinder(WallElementTable& t, SurfaceBuilder& s, int wall, const WallCo
 void add_mesh(WallElementTable& t, SurfaceBuilder& s, int wall, const WallConfig& c) {
   TriangleMesh mesh = read_stl(c.file);
   for (auto& p : mesh.points)
-    for (int a = 0; a < 3; ++a) p[a] = p[a] * c.scale + c.translate[a];
+    for (int a = 0; a < 3; ++a)
+      p[a] = p[a] * c.scale + c.translate[a];
   const MeshTopology topo = build_topology(mesh);
   const int first_element = int(t.kind.size());
   const int first_edge = int(t.edge_owner.size());
@@ -110,63 +124,73 @@ void add_mesh(WallElementTable& t, SurfaceBuilder& s, int wall, const WallConfig
     const auto& tri = mesh.triangles[k];
     std::array<double, 9> g{};
     for (int v = 0; v < 3; ++v)
-      for (int a = 0; a < 3; ++a) g[3 * v + a] = mesh.points[tri[v]][a];
+      for (int a = 0; a < 3; ++a)
+        g[3 * v + a] = mesh.points[tri[v]][a];
     t.kind.push_back(triangle_kind);
     t.wall.push_back(wall);
     t.geometry.push_back(g);
     const auto& e = topo.triangle_edges[k];
-    t.features.push_back({first_edge + e[0], first_edge + e[1], first_edge + e[2], first_vertex + tri[0],
-                          first_vertex + tri[1], first_vertex + tri[2]});
+    t.features.push_back({first_edge + e[0], first_edge + e[1], first_edge + e[2],
+                          first_vertex + tri[0], first_vertex + tri[1], first_vertex + tri[2]});
   }
   for (std::size_t e = 0; e < topo.edge_vertices.size(); ++e) {
     const auto& adjacent = topo.edge_triangles[e];
     t.edge_owner.push_back(first_element + *std::min_element(adjacent.begin(), adjacent.end()));
     t.edge_sides.push_back(int(std::min<std::size_t>(2, adjacent.size())));
     t.edge_outward.push_back(topo.edge_outward[e]);
-    t.edge_vertices.push_back({first_vertex + topo.edge_vertices[e][0], first_vertex + topo.edge_vertices[e][1]});
+    t.edge_vertices.push_back(
+        {first_vertex + topo.edge_vertices[e][0], first_vertex + topo.edge_vertices[e][1]});
     t.edge_direction.push_back(topo.edge_direction[e]);
   }
   for (std::size_t v = 0; v < mesh.points.size(); ++v) {
     const auto& incident = topo.vertex_triangles[v];
-    t.vertex_owner.push_back(incident.empty() ? -1 : first_element + *std::min_element(incident.begin(), incident.end()));
-    for (const auto& d : topo.vertex_edge_directions[v]) t.vertex_edge_direction.push_back(d);
+    t.vertex_owner.push_back(
+        incident.empty() ? -1
+                         : first_element + *std::min_element(incident.begin(), incident.end()));
+    for (const auto& d : topo.vertex_edge_directions[v])
+      t.vertex_edge_direction.push_back(d);
     t.vertex_edge_start.push_back(int(t.vertex_edge_direction.size()));
-    for (int triangle : incident) t.vertex_triangle.push_back(first_element + triangle);
+    for (int triangle : incident)
+      t.vertex_triangle.push_back(first_element + triangle);
     t.vertex_triangle_start.push_back(int(t.vertex_triangle.size()));
     t.vertex_position.push_back(mesh.points[v]);
   }
   // Features are told apart to 1e-9 of the mesh size: far below any overlap that matters, far
   // above the rounding of the tests that compare them.
   double extent = 0;
-  for (const auto& p : mesh.points) extent = std::max(extent, std::sqrt(dot(sub(p, mesh.points[0]), sub(p, mesh.points[0]))));
+  for (const auto& p : mesh.points)
+    extent = std::max(extent, std::sqrt(dot(sub(p, mesh.points[0]), sub(p, mesh.points[0]))));
   t.feature_tolerance = std::max(t.feature_tolerance, 1e-9 * extent);
-  for (const auto& p : mesh.points) s.add_point(p);
-  for (const auto& tri : mesh.triangles) s.triangles.insert(s.triangles.end(), tri.begin(), tri.end());
+  for (const auto& p : mesh.points)
+    s.add_point(p);
+  for (const auto& tri : mesh.triangles)
+    s.triangles.insert(s.triangles.end(), tri.begin(), tri.end());
 }
 
-}  // namespace
+} // namespace
 
 WallElementTable build_wall_elements(const std::vector<WallConfig>& walls, const Vec3d& domain_min,
                                      const Vec3d& domain_max) {
   WallElementTable table;
-  const double half_patch = 0.5 * std::sqrt(dot(sub(domain_max, domain_min), sub(domain_max, domain_min)));
+  const double half_patch =
+      0.5 * std::sqrt(dot(sub(domain_max, domain_min), sub(domain_max, domain_min)));
   for (int w = 0; w < int(walls.size()); ++w) {
     const WallConfig& c = walls[w];
     SurfaceBuilder surface;
     switch (c.kind) {
-      case WallConfig::Kind::Plane:
-        add_plane(table, w, c.point, unit(c.normal));
-        draw_plane_patch(surface, c.point, unit(c.normal), half_patch);
-        break;
-      case WallConfig::Kind::Box:
-        add_box(table, surface, w, c);
-        break;
-      case WallConfig::Kind::Cylinder:
-        add_cylinder(table, surface, w, c);
-        break;
-      case WallConfig::Kind::Mesh:
-        add_mesh(table, surface, w, c);
-        break;
+    case WallConfig::Kind::Plane:
+      add_plane(table, w, c.point, unit(c.normal));
+      draw_plane_patch(surface, c.point, unit(c.normal), half_patch);
+      break;
+    case WallConfig::Kind::Box:
+      add_box(table, surface, w, c);
+      break;
+    case WallConfig::Kind::Cylinder:
+      add_cylinder(table, surface, w, c);
+      break;
+    case WallConfig::Kind::Mesh:
+      add_mesh(table, surface, w, c);
+      break;
     }
     table.surface_points.push_back(std::move(surface.points));
     table.surface_triangles.push_back(std::move(surface.triangles));
@@ -196,7 +220,8 @@ bool walls_bounding_box(const std::vector<WallConfig>& walls, Vec3d& lo, Vec3d& 
   hi = {-1e300, -1e300, -1e300};
   auto include = [&](const Vec3d& p) {
     any = true;
-    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
+    for (int a = 0; a < 3; ++a)
+      lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
   };
   for (const WallConfig& c : walls) {
     if (c.kind == WallConfig::Kind::Box) {
@@ -211,7 +236,8 @@ bool walls_bounding_box(const std::vector<WallConfig>& walls, Vec3d& lo, Vec3d& 
     } else if (c.kind == WallConfig::Kind::Mesh) {
       for (const auto& p : read_stl(c.file).points) {
         Vec3d q;
-        for (int a = 0; a < 3; ++a) q[a] = p[a] * c.scale + c.translate[a];
+        for (int a = 0; a < 3; ++a)
+          q[a] = p[a] * c.scale + c.translate[a];
         include(q);
       }
     }
@@ -219,4 +245,4 @@ bool walls_bounding_box(const std::vector<WallConfig>& walls, Vec3d& lo, Vec3d& 
   return any;
 }
 
-}  // namespace kdem
+} // namespace kdem

@@ -10,7 +10,7 @@
 namespace kdem {
 
 struct WallElementTable {
-  std::vector<int> kind;  // WallElementKind
+  std::vector<int> kind; // WallElementKind
   std::vector<int> wall;
   std::vector<std::array<double, 9>> geometry;
   std::vector<std::array<int, 6>> features;
@@ -40,4 +40,4 @@ std::vector<WallMotionData> wall_motions(const std::vector<WallConfig>& walls);
 // Bounding box of the walls that have one (boxes, cylinders, meshes); false if none has.
 bool walls_bounding_box(const std::vector<WallConfig>& walls, Vec3d& lo, Vec3d& hi);
 
-}  // namespace kdem
+} // namespace kdem

@@ -5,7 +5,7 @@
 #include <cstdlib>
 
 int main(int argc, char** argv) {
-  setenv("OMP_PROC_BIND", "false", 0);  // test runs share cores with other tests
+  setenv("OMP_PROC_BIND", "false", 0); // test runs share cores with other tests
   Kokkos::ScopeGuard kokkos(argc, argv);
   ::testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();

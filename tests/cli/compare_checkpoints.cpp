@@ -11,13 +11,15 @@
 namespace {
 
 bool same_bits(const std::vector<double>& a, const std::vector<double>& b, std::size_t& first) {
-  if (a.size() != b.size()) return first = 0, false;
+  if (a.size() != b.size())
+    return first = 0, false;
   for (std::size_t k = 0; k < a.size(); ++k)
-    if (std::memcmp(&a[k], &b[k], sizeof(double)) != 0) return first = k, false;
+    if (std::memcmp(&a[k], &b[k], sizeof(double)) != 0)
+      return first = k, false;
   return true;
 }
 
-}  // namespace
+} // namespace
 
 int main(int argc, char** argv) {
   if (argc != 3) {
@@ -29,15 +31,21 @@ int main(int argc, char** argv) {
     std::printf("particle ids or order differ\n");
     return 1;
   }
-  const char* fields[] = {"particles/position", "particles/velocity", "particles/angular_velocity",
-                          "particles/orientation", "particles/force", "particles/torque",
-                          "pairs/tangential_spring", "wall_contacts/tangential_spring"};
+  const char* fields[] = {"particles/position",
+                          "particles/velocity",
+                          "particles/angular_velocity",
+                          "particles/orientation",
+                          "particles/force",
+                          "particles/torque",
+                          "pairs/tangential_spring",
+                          "wall_contacts/tangential_spring"};
   for (const char* field : fields) {
     std::size_t first = 0;
     const auto va = a.read_doubles(field), vb = b.read_doubles(field);
     if (!same_bits(va, vb, first)) {
-      std::printf("%s differs (sizes %zu, %zu; first index %zu: %.17g vs %.17g)\n", field, va.size(), vb.size(),
-                  first, first < va.size() ? va[first] : 0.0, first < vb.size() ? vb[first] : 0.0);
+      std::printf("%s differs (sizes %zu, %zu; first index %zu: %.17g vs %.17g)\n", field,
+                  va.size(), vb.size(), first, first < va.size() ? va[first] : 0.0,
+                  first < vb.size() ? vb[first] : 0.0);
       return 1;
     }
   }

@@ -11,8 +11,9 @@
 
 namespace kdem::testing {
 
-inline MaterialConfig material(const std::string& name, double density, double youngs, double poisson,
-                               double restitution, double friction, double rolling = 0) {
+inline MaterialConfig material(const std::string& name, double density, double youngs,
+                               double poisson, double restitution, double friction,
+                               double rolling = 0) {
   MaterialConfig m;
   m.name = name;
   m.density = density;
@@ -49,7 +50,8 @@ inline WallConfig plane_wall(const std::string& material, Vec3d point, Vec3d nor
   return w;
 }
 
-inline ParticleInit sphere(Vec3d position, double radius, Vec3d velocity = {0, 0, 0}, int material = 0) {
+inline ParticleInit sphere(Vec3d position, double radius, Vec3d velocity = {0, 0, 0},
+                           int material = 0) {
   ParticleInit p;
   p.position = position;
   p.radius = radius;
@@ -65,13 +67,15 @@ struct HertzImpact {
   double peak_overlap, peak_force, duration;
 };
 
-inline HertzImpact hertz_impact(double effective_mass, double effective_radius, double effective_youngs,
-                                double speed) {
+inline HertzImpact hertz_impact(double effective_mass, double effective_radius,
+                                double effective_youngs, double speed) {
   HertzImpact h;
   const double k = 4.0 / 3.0 * effective_youngs * std::sqrt(effective_radius);
-  h.peak_overlap = std::pow(15.0 * effective_mass * speed * speed / (16.0 * effective_youngs * std::sqrt(effective_radius)), 0.4);
+  h.peak_overlap = std::pow(15.0 * effective_mass * speed * speed /
+                                (16.0 * effective_youngs * std::sqrt(effective_radius)),
+                            0.4);
   h.peak_force = k * std::pow(h.peak_overlap, 1.5);
-  const double integral = std::sqrt(M_PI) * std::tgamma(1.4) / std::tgamma(0.9);  // = 1.4716...
+  const double integral = std::sqrt(M_PI) * std::tgamma(1.4) / std::tgamma(0.9); // = 1.4716...
   h.duration = 2.0 * integral * h.peak_overlap / speed;
   return h;
 }
@@ -83,13 +87,15 @@ inline double effective_youngs(const MaterialConfig& a, const MaterialConfig& b)
 
 // With KDEM_VALIDATION_OUT set, a CSV file there (header written) for the plots of
 // docs/validation.md (cases/validation/plot_validation.py); otherwise null.
-inline std::unique_ptr<std::ofstream> validation_csv(const std::string& name, const std::string& header) {
+inline std::unique_ptr<std::ofstream> validation_csv(const std::string& name,
+                                                     const std::string& header) {
   const char* directory = std::getenv("KDEM_VALIDATION_OUT");
-  if (!directory) return nullptr;
+  if (!directory)
+    return nullptr;
   auto file = std::make_unique<std::ofstream>(std::string(directory) + "/" + name + ".csv");
   file->precision(12);
   *file << header << "\n";
   return file;
 }
 
-}  // namespace kdem::testing
+} // namespace kdem::testing

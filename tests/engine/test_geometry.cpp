@@ -35,22 +35,22 @@ TEST(TriangleQuery, ClosestPointMatchesBruteForce) {
     const SurfaceQuery q = triangle_query(a, b, c, p);
     const double brute = sampled_distance(a, b, c, p);
     EXPECT_LE(q.signed_distance, brute + 1e-12);     // never farther than a sample
-    EXPECT_GE(q.signed_distance, brute - 1.0 / 200);  // within one sample spacing
+    EXPECT_GE(q.signed_distance, brute - 1.0 / 200); // within one sample spacing
   }
 }
 
 TEST(TriangleQuery, FeaturesAreClassified) {
   const Vec3 a{0, 0, 0}, b{1, 0, 0}, c{0, 1, 0};
-  EXPECT_EQ(triangle_query(a, b, c, {0.2, 0.2, 1}).feature, 0);    // face
-  EXPECT_EQ(triangle_query(a, b, c, {0.5, -1, 0.3}).feature, 1);   // edge ab
-  EXPECT_EQ(triangle_query(a, b, c, {1, 1, 0.3}).feature, 2);      // edge bc
-  EXPECT_EQ(triangle_query(a, b, c, {-1, 0.5, 0.3}).feature, 3);   // edge ca
-  EXPECT_EQ(triangle_query(a, b, c, {-1, -1, 0}).feature, 4);      // vertex a
-  EXPECT_EQ(triangle_query(a, b, c, {2, -0.5, 0}).feature, 5);     // vertex b
-  EXPECT_EQ(triangle_query(a, b, c, {-0.5, 2, 0}).feature, 6);     // vertex c
+  EXPECT_EQ(triangle_query(a, b, c, {0.2, 0.2, 1}).feature, 0);  // face
+  EXPECT_EQ(triangle_query(a, b, c, {0.5, -1, 0.3}).feature, 1); // edge ab
+  EXPECT_EQ(triangle_query(a, b, c, {1, 1, 0.3}).feature, 2);    // edge bc
+  EXPECT_EQ(triangle_query(a, b, c, {-1, 0.5, 0.3}).feature, 3); // edge ca
+  EXPECT_EQ(triangle_query(a, b, c, {-1, -1, 0}).feature, 4);    // vertex a
+  EXPECT_EQ(triangle_query(a, b, c, {2, -0.5, 0}).feature, 5);   // vertex b
+  EXPECT_EQ(triangle_query(a, b, c, {-0.5, 2, 0}).feature, 6);   // vertex c
   const SurfaceQuery face = triangle_query(a, b, c, {0.2, 0.2, -0.5});
   EXPECT_NEAR(face.signed_distance, 0.5, 1e-15);
-  EXPECT_NEAR(face.free_normal.z, -1.0, 1e-15);  // points from the surface to the centre
+  EXPECT_NEAR(face.free_normal.z, -1.0, 1e-15); // points from the surface to the centre
 }
 
 TEST(SphereSphere, OverlapNormalAndPointAreExact) {
@@ -58,7 +58,7 @@ TEST(SphereSphere, OverlapNormalAndPointAreExact) {
   ASSERT_TRUE(g.touching);
   EXPECT_NEAR(g.overlap, 0.0001, 1e-18);
   EXPECT_DOUBLE_EQ(g.normal.z, 1.0);
-  EXPECT_NEAR(g.point.z, 0.0006 - 0.00005, 1e-18);  // middle of the overlap
+  EXPECT_NEAR(g.point.z, 0.0006 - 0.00005, 1e-18); // middle of the overlap
   EXPECT_FALSE(sphere_sphere({0, 0, 0.0016}, 0.001, {0, 0, 0}, 0.0006).touching);
 }
 
@@ -68,10 +68,10 @@ TEST(Quaternion, RotationVectorIsExactAcrossTheSeriesSwitch) {
   for (double angle : {1e-12, 1e-6, 0.999e-3, 1.001e-3, 0.1, 3.0}) {
     const Vec3 axis{0.6, 0.0, 0.8};
     const Quat q = quat_from_rotation_vector(angle * axis);
-    EXPECT_NEAR(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z, 1.0, 4.5e-16);  // two ulps
+    EXPECT_NEAR(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z, 1.0, 4.5e-16); // two ulps
     EXPECT_NEAR(q.w, std::cos(0.5 * angle), 1e-16);
     EXPECT_NEAR(q.x, 0.6 * std::sin(0.5 * angle), 1e-16);
-    const Vec3 rotated = rotate(q, Vec3{0, 1, 0});  // perpendicular to the axis
+    const Vec3 rotated = rotate(q, Vec3{0, 1, 0}); // perpendicular to the axis
     EXPECT_NEAR(dot(rotated, Vec3{0, 1, 0}), std::cos(angle), 1e-15);
   }
 }
@@ -83,5 +83,5 @@ TEST(CylinderInside, DistanceFromTheAxis) {
   EXPECT_NEAR(q.point.x, 0.03, 1e-16);
 }
 
-}  // namespace
-}  // namespace kdem
+} // namespace
+} // namespace kdem

@@ -14,11 +14,11 @@ namespace kdem::testing {
 namespace {
 
 struct ImpactRecord {
-  std::vector<std::array<double, 3>> history;  // time since first touch, overlap, force on 0
+  std::vector<std::array<double, 3>> history; // time since first touch, overlap, force on 0
   double peak_overlap = 0;
-  double peak_force = 0;   // from the velocity change of particle 0 over one step
-  double duration = 0;     // s, with linear interpolation of the touching instants
-  double rebound_speed = 0;  // relative normal speed after separation
+  double peak_force = 0;    // from the velocity change of particle 0 over one step
+  double duration = 0;      // s, with linear interpolation of the touching instants
+  double rebound_speed = 0; // relative normal speed after separation
 };
 
 // Particle 0 moves along +x towards particle 1 (or a wall at x = gap); overlap measured along x.
@@ -33,17 +33,20 @@ ImpactRecord record_impact(Engine& engine, double reach, bool against_wall, doub
     const double gap = against_wall ? (wall_x - x0) - reach : (s.position[3] - x0) - reach;
     const double relative_speed = against_wall ? v0 : v0 - s.velocity[3];
     if (k > 0) {
-      const double mass_force = -(v0 - previous_velocity) / dt;  // repulsion pushes particle 0 to -x
+      const double mass_force = -(v0 - previous_velocity) / dt; // repulsion pushes particle 0 to -x
       r.peak_force = std::max(r.peak_force, mass_force);
-      if (touch_start >= 0) r.history.push_back({engine.time() - touch_start, std::max(-gap, 0.0), mass_force});
-      if (previous_gap >= 0 && gap < 0) touch_start = engine.time() - dt * gap / (gap - previous_gap);
+      if (touch_start >= 0)
+        r.history.push_back({engine.time() - touch_start, std::max(-gap, 0.0), mass_force});
+      if (previous_gap >= 0 && gap < 0)
+        touch_start = engine.time() - dt * gap / (gap - previous_gap);
       if (previous_gap < 0 && gap >= 0) {
         r.duration = engine.time() - dt * gap / (gap - previous_gap) - touch_start;
         r.rebound_speed = -relative_speed;
         return r;
       }
     }
-    if (gap < 0) touched = true;
+    if (gap < 0)
+      touched = true;
     r.peak_overlap = std::max(r.peak_overlap, -gap);
     previous_gap = gap;
     previous_velocity = v0;
@@ -55,8 +58,10 @@ ImpactRecord record_impact(Engine& engine, double reach, bool against_wall, doub
 
 void save_history(const std::string& name, const ImpactRecord& r, double mass) {
   auto out = validation_csv(name, "time,overlap,force");
-  if (!out) return;
-  for (const auto& h : r.history) *out << h[0] << "," << h[1] << "," << h[2] * mass << "\n";
+  if (!out)
+    return;
+  for (const auto& h : r.history)
+    *out << h[0] << "," << h[1] << "," << h[2] * mass << "\n";
 }
 
 class HertzImpactTest : public ::testing::TestWithParam<double> {};
@@ -68,7 +73,8 @@ TEST_P(HertzImpactTest, SphereSphereMatchesHertzAndRestitution) {
   const MaterialConfig glass = material("glass", 2500, 1e8, 0.2, e, 0.0);
   const double radius = 1e-3, speed = 2.0;
   const double mass = glass.density * 4.0 / 3.0 * M_PI * radius * radius * radius;
-  const HertzImpact h = hertz_impact(0.5 * mass, 0.5 * radius, effective_youngs(glass, glass), speed);
+  const HertzImpact h =
+      hertz_impact(0.5 * mass, 0.5 * radius, effective_youngs(glass, glass), speed);
   Engine engine(empty_scene(h.duration / 2000, {glass}));
   engine.add_particles({sphere({-radius - 1e-5, 0, 0}, radius, {0.5 * speed, 0, 0}),
                         sphere({radius + 1e-5, 0, 0}, radius, {-0.5 * speed, 0, 0})});
@@ -79,7 +85,7 @@ TEST_P(HertzImpactTest, SphereSphereMatchesHertzAndRestitution) {
     EXPECT_NEAR(r.peak_force * mass, h.peak_force, 0.01 * h.peak_force);
     EXPECT_NEAR(r.duration, h.duration, 0.01 * h.duration);
   } else {
-    EXPECT_LT(r.peak_overlap, h.peak_overlap);  // damping absorbs part of the approach energy
+    EXPECT_LT(r.peak_overlap, h.peak_overlap); // damping absorbs part of the approach energy
   }
 }
 
@@ -113,5 +119,5 @@ TEST(Restitution, ClosedFormDampingGivesRequestedRestitution) {
   }
 }
 
-}  // namespace
-}  // namespace kdem::testing
+} // namespace
+} // namespace kdem::testing
