@@ -322,7 +322,7 @@ void Engine::State::write_new_rows(const std::vector<ParticleInit>& added, int f
 }
 
 double Engine::State::effective_skin() const {
-  return skin > 0 ? skin : 0.5 * (smallest_radius < 1e300 ? smallest_radius : largest_radius);
+  return skin > 0 ? skin : default_skin_per_radius * (smallest_radius < 1e300 ? smallest_radius : largest_radius);
 }
 
 // Conservative bound on how far any wall surface point has moved since the lists were built.

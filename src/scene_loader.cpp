@@ -844,12 +844,12 @@ void read_bodies(const Mapping& map, SceneConfig& scene) {
     });
 }
 
-// Default Verlet skin: a tenth of the smallest particle radius of the scene.
+// Default Verlet skin: default_skin_per_radius x the smallest particle radius of the scene.
 double default_skin(const SceneConfig& scene) {
   double smallest = smallest_radius(scene.sources.front().sizes);
   for (const auto& source : scene.sources)
     smallest = std::min(smallest, smallest_radius(source.sizes));
-  return 0.1 * smallest;
+  return default_skin_per_radius * smallest;
 }
 
 const KeyList scene_keys{"time_step",    "duration",  "gravity", "skin",    "domain", "materials",

@@ -365,14 +365,14 @@ TEST(SceneDefaults, MinimalSceneGetsTheDocumentedDefaults) {
   EXPECT_DOUBLE_EQ(scene.sources.at(0).sizes.radius, 0.002);
 }
 
-TEST(SceneDefaults, SkinIsATenthOfTheSmallestRadius) {
+TEST(SceneDefaults, SkinIsADefaultFractionOfTheSmallestRadius) {
   const SceneConfig scene = load_text(minimal_scene_plus(R"(  - name: small
     material: glass
     size: {distribution: discrete, radii: [0.004, 0.0005], mass_fractions: [0.5, 0.5]}
     region: {box: {min: [0, 0, 0], max: [1, 1, 1]}}
     count: 3
 )"));
-  EXPECT_DOUBLE_EQ(scene.skin, 0.00005);
+  EXPECT_DOUBLE_EQ(scene.skin, 0.4 * 0.0005);
 }
 
 TEST(SceneFile, LoadsAFileAndResolvesMeshesAgainstItsFolder) {
