@@ -5,7 +5,7 @@
 //                     [--cache-dir DIR] [--write-data FILE.data] [--rebuild-every-step]
 //                     [--kokkos-threads=T]
 //
-// The bed is built from one settled tile of 1000 spheres (20 mm x 20 mm footprint, about nine
+// The bed is built from one settled tile of 1000 spheres (20 mm x 20 mm footprint, about ten
 // diameters deep), settled once with this engine and cached as text in --cache-dir. N spheres
 // are laid out as kx x ky copies of the tile, every other copy mirrored, so that two copies meet
 // face to face exactly as the tile met its side wall: the composite is in equilibrium from the

@@ -40,15 +40,83 @@ def sh(command):
         return ""
 
 
+def busy_cpu_seconds():
+    """CPU seconds the whole machine has spent busy (all processes), from /proc/stat."""
+    try:
+        fields = [int(x) for x in Path("/proc/stat").read_text().split("\n", 1)[0].split()[1:]]
+    except (OSError, ValueError):
+        return None
+    user, nice, system, idle, iowait, irq, softirq, steal = (fields + [0] * 8)[:8]
+    return (user + nice + system + irq + softirq + steal) / os.sysconf("SC_CLK_TCK")
+
+
 def run_measured(command, **kwargs):
-    """subprocess.run, also returning the wall time and the CPU time of the child processes."""
+    """subprocess.run, also returning the wall time, the CPU time of the child processes and
+    the CPU time that other processes took meanwhile (they compete for the cores)."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    busy_before = busy_cpu_seconds()
     started = time.time()
     result = subprocess.run(command, capture_output=True, text=True, **kwargs)
     wall = time.time() - started
+    busy_after = busy_cpu_seconds()
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    return result, wall, cpu
+    foreign = None
+    if busy_before is not None and busy_after is not None:
+        foreign = max(0.0, busy_after - busy_before - cpu)
+    return result, wall, cpu, foreign
+
+
+def wait_for_quiet(max_wait_s, threshold=0.1):
+    """Waits (at most max_wait_s) until the other processes use under `threshold` of the
+    machine's cores over a 2 s sample; returns the seconds waited."""
+    started = time.time()
+    cores = os.cpu_count() or 1
+    announced = False
+    while True:
+        busy = busy_cpu_seconds()
+        time.sleep(2)
+        after = busy_cpu_seconds()
+        if busy is None or after is None or (after - busy) / (2 * cores) < threshold:
+            return time.time() - started
+        if time.time() - started > max_wait_s:
+            log(f"  machine still busy after {max_wait_s:.0f} s: measuring anyway")
+            return time.time() - started
+        if not announced:
+            log("  other processes are using the cores: waiting for a quiet moment")
+            announced = True
+        time.sleep(3)
+
+
+WAITED = [0.0]  # seconds spent waiting for a quiet machine, not counted in the time budget
+
+
+def measured_run(run, args):
+    """Runs run() (which returns a record with wall_s and foreign_cpu_s) after waiting for a
+    quiet machine; repeats it up to args.retries times while other processes took more than
+    args.foreign_limit of the cores meanwhile, and keeps the least disturbed record."""
+    cores = os.cpu_count() or 1
+    best = None
+    for attempt in range(args.retries + 1):
+        waited = wait_for_quiet(args.quiet_wait)
+        WAITED[0] += waited
+        record = run()
+        if record is None:
+            return None
+        foreign = record.get("foreign_cpu_s")
+        record["foreign_cpu_fraction"] = (round(foreign / (record["wall_s"] * cores), 4)
+                                          if foreign is not None and record["wall_s"] > 0
+                                          else None)
+        record["attempt"] = attempt + 1
+        record["waited_for_quiet_s"] = round(waited, 1)
+        if best is None or (record["foreign_cpu_fraction"] or 0) < (best["foreign_cpu_fraction"] or 0):
+            best = record
+        if record["foreign_cpu_fraction"] is None or record["foreign_cpu_fraction"] <= args.foreign_limit:
+            break
+        if attempt < args.retries:
+            log(f"  other processes took {100 * record['foreign_cpu_fraction']:.0f} % of the "
+                f"cores during the run: measuring again")
+    return best
 
 
 def load_average():
@@ -134,12 +202,13 @@ def run_kdem(binary, n, steps, warmup, repeat, threads, cache_dir, write_data=No
     if rebuild:
         command.append("--rebuild-every-step")
     load = load_average()
-    result, wall, cpu = run_measured(command, env=kdem_env(threads), cwd=ROOT)
+    result, wall, cpu, foreign = run_measured(command, env=kdem_env(threads), cwd=ROOT)
     if result.returncode != 0:
         raise RuntimeError(f"{' '.join(command)} failed:\n{result.stderr[-3000:]}")
     record = json.loads(result.stdout.strip().splitlines()[-1])
     record["wall_s"] = round(wall, 2)
-    record["cpu_s"] = round(cpu, 2)  # about workers x wall_s when nothing else ran
+    record["cpu_s"] = round(cpu, 2)
+    record["foreign_cpu_s"] = None if foreign is None else round(foreign, 2)
     record["load_average_before"] = load
     record["workers"] = threads
     return record
@@ -232,7 +301,7 @@ def run_liggghts(binary, data_file, bed, model, steps, warmup, repeat, procs, wo
     env["OMP_NUM_THREADS"] = "1"
     command = launcher + [binary, "-in", str(input_file.resolve()), "-log", "none"]
     load = load_average()
-    result, wall, cpu = run_measured(command, cwd=work_dir, env=env)
+    result, wall, cpu, foreign = run_measured(command, cwd=work_dir, env=env)
     output = result.stdout + result.stderr
     if result.returncode != 0 or "ERROR" in output:
         raise RuntimeError(f"{' '.join(command)} failed:\n{output[-3000:]}")
@@ -256,7 +325,9 @@ def run_liggghts(binary, data_file, bed, model, steps, warmup, repeat, procs, wo
         "contacts_per_particle": contacts / n,
         "list_builds_timed": sum(builds[1:1 + repeat]) if len(builds) >= repeat + 1 else None,
         "kinetic_energy_j": translational + rotational,
-        "wall_s": round(wall, 2), "cpu_s": round(cpu, 2), "load_average_before": load,
+        "wall_s": round(wall, 2), "cpu_s": round(cpu, 2),
+        "foreign_cpu_s": None if foreign is None else round(foreign, 2),
+        "load_average_before": load,
     }
 
 
@@ -360,8 +431,8 @@ def report(run):
     log(f"  {worker_label(run['code'], run['workers'])}: "
         f"{run['particle_steps_per_s'] / 1e6:.3f} M particle-steps/s (median {run['median_s']:.3f} s"
         f" of {', '.join(f'{t:.3f}' for t in run['times_s'])}), {run['pair_contacts']} contacts, "
-        f"{run['list_builds_timed']} list builds, wall {run['wall_s']} s, cpu {run['cpu_s']} s, "
-        f"load {run['load_average_before']}")
+        f"{run['list_builds_timed']} list builds; wall {run['wall_s']} s, cpu {run['cpu_s']} s, "
+        f"others {run['foreign_cpu_s']} s")
 
 
 def steps_for(n, work, minimum):
@@ -382,6 +453,12 @@ def main():
                         help="repeats of the variant with lists rebuilt every step (0: none)")
     parser.add_argument("--rebuild-work", type=float, default=5e6,
                         help="particle-steps per timed run (and warm-up) of that variant")
+    parser.add_argument("--quiet-wait", type=float, default=300,
+                        help="seconds to wait, before each run, for other processes to go quiet")
+    parser.add_argument("--retries", type=int, default=3,
+                        help="runs repeated while other processes disturbed them")
+    parser.add_argument("--foreign-limit", type=float, default=0.05,
+                        help="share of the cores other processes may take during a run")
     parser.add_argument("--budget-min", type=float, default=30,
                         help="skip sizes whose predicted time would exceed this total")
     parser.add_argument("--build-dir", default=str(ROOT / "build" / "openmp"))
@@ -391,9 +468,14 @@ def main():
     parser.add_argument("--no-liggghts", action="store_true")
     parser.add_argument("--plot-only", action="store_true",
                         help="only redraw --plot from the results in --out")
+    parser.add_argument("--table", action="store_true",
+                        help="only print the results in --out as Markdown tables")
     args = parser.parse_args()
     if args.plot_only:
         plot_or_delegate(json.loads(Path(args.out).read_text()), args)
+        return
+    if args.table:
+        print(markdown_tables(json.loads(Path(args.out).read_text())))
         return
 
     binary = Path(args.build_dir) / "bin" / "kdem_bench_openmp"
@@ -416,7 +498,8 @@ def main():
         "machine": machine_info(),
         "settings": {"repeat": args.repeat, "work_per_run": args.work,
                      "warmup_work": args.warmup_work, "threads": args.threads,
-                     "rebuild_repeat": args.rebuild_repeat, "rebuild_work": args.rebuild_work},
+                     "rebuild_repeat": args.rebuild_repeat, "rebuild_work": args.rebuild_work,
+                     "retries": args.retries, "foreign_limit": args.foreign_limit},
         "runs": [], "ratios": [], "skipped": [],
     }
     if liggghts:
@@ -432,7 +515,7 @@ def main():
     for size in sorted(int(s) for s in args.sizes):
         steps = steps_for(size, args.work, 10)
         warmup = min(1000, steps_for(size, args.warmup_work, 10))
-        elapsed = time.time() - started
+        elapsed = time.time() - started - WAITED[0]
         if previous:
             predicted = 1.3 * sum(
                 predict_seconds([r for r in previous if r["rebuild_every_step"] == rebuild], size,
@@ -465,17 +548,19 @@ def main():
             log(f"N = {size}, {what}: {v_warmup} warm-up steps, {v_repeat} x {v_steps} timed steps")
             pairs = {}
             for w in workers:
-                record = run_kdem(binary, size, v_steps, v_warmup, v_repeat, w, cache_dir,
-                                  write_data=data_file if w == workers[0] and not rebuild else None,
-                                  rebuild=rebuild)
+                record = measured_run(lambda: run_kdem(
+                    binary, size, v_steps, v_warmup, v_repeat, w, cache_dir,
+                    write_data=data_file if w == workers[0] and not rebuild else None,
+                    rebuild=rebuild), args)
                 results["runs"].append(record)
                 report(record)
                 pairs.setdefault(w, {})["kdem"] = record
                 if not liggghts:
                     continue
                 bed = dict(record["bed"], n=size)
-                peer = run_liggghts(liggghts, data_file, bed, record["model"], v_steps, v_warmup,
-                                    v_repeat, w, work_dir, rebuild=rebuild)
+                peer = measured_run(lambda: run_liggghts(
+                    liggghts, data_file, bed, record["model"], v_steps, v_warmup, v_repeat, w,
+                    work_dir, rebuild=rebuild), args)
                 if peer is None:
                     log(f"  LIGGGHTS {w} procs: no mpirun, skipped")
                     continue
@@ -493,9 +578,48 @@ def main():
         previous = [r for r in results["runs"] if r["n"] == size]
         save(results, args)
     results["total_wall_s"] = round(time.time() - started, 1)
+    results["waited_for_quiet_s"] = round(WAITED[0], 1)
     save(results, args)
     plot_or_delegate(results, args)
+    print(markdown_tables(results))
     log(f"wrote {args.out} and {args.plot} in {results['total_wall_s'] / 60:.1f} min")
+
+
+def markdown_tables(results):
+    """Throughput (million particle-steps/s, median) and kdem/LIGGGHTS ratios per variant."""
+    lines = []
+    for rebuild in (False, True):
+        runs = [r for r in results["runs"] if r.get("rebuild_every_step", False) == rebuild]
+        if not runs:
+            continue
+        columns = sorted({(r["code"], r["workers"]) for r in runs}, key=lambda c: (c[0] != "kdem", c[1]))
+        lines.append("Lists rebuilt every step:" if rebuild else "Skin trigger (Verlet lists):")
+        lines.append("")
+        header = ["N", "steps x repeats"] + [worker_label(*c) for c in columns]
+        ratio_workers = sorted({r["workers"] for r in results["ratios"]
+                                if r.get("rebuild_every_step", False) == rebuild})
+        header += [f"kdem/LIGGGHTS, {w} worker{'s' if w > 1 else ''}" for w in ratio_workers]
+        header += ["contacts per sphere", "list builds timed (kdem / LIGGGHTS)"]
+        lines.append("| " + " | ".join(header) + " |")
+        lines.append("|" + "---|" * len(header))
+        for n in sorted({r["n"] for r in runs}):
+            at_n = [r for r in runs if r["n"] == n]
+            row = [f"{n:,}", f"{at_n[0]['steps']} x {at_n[0]['repeat']}"]
+            for code, workers in columns:
+                match = [r for r in at_n if r["code"] == code and r["workers"] == workers]
+                row.append(f"{match[0]['particle_steps_per_s'] / 1e6:.2f}" if match else "-")
+            for w in ratio_workers:
+                match = [r for r in results["ratios"] if r["n"] == n and r["workers"] == w
+                         and r.get("rebuild_every_step", False) == rebuild]
+                row.append(f"{match[0]['kdem_over_liggghts']:.2f}" if match else "-")
+            kdem = [r for r in at_n if r["code"] == "kdem"]
+            peer = [r for r in at_n if r["code"] == "LIGGGHTS"]
+            row.append(f"{2 * kdem[0]['pair_contacts'] / n:.2f}" if kdem else "-")
+            row.append(" / ".join(str(r[0]["list_builds_timed"]) if r else "-"
+                                  for r in (kdem, peer)))
+            lines.append("| " + " | ".join(row) + " |")
+        lines.append("")
+    return "\n".join(lines)
 
 
 def plot_or_delegate(results, args):
