@@ -73,7 +73,7 @@ inline IndexView exclusive_scan_with_total(const IndexView& counts, int& total) 
 inline CellBins sort_particles_by_cell(ParticleViews& p, const CellGrid& grid) {
   const int n = p.count;
   const int cells = grid.cell_count();
-  IndexView cell_of_particle("cell_of_particle", n);
+  auto cell_of_particle = uninitialized<IndexView>("cell_of_particle", n);
   IndexView counts("cell_counts", cells);
   auto position = p.position;
   Kokkos::parallel_for(
@@ -84,9 +84,9 @@ inline CellBins sort_particles_by_cell(ParticleViews& p, const CellGrid& grid) {
       });
   int total = 0;
   IndexView cell_start = exclusive_scan_with_total(counts, total);
-  IndexView cursor("cell_cursor", cells);
+  auto cursor = uninitialized<IndexView>("cell_cursor", cells);
   Kokkos::deep_copy(cursor, Kokkos::subview(cell_start, Kokkos::make_pair(0, cells)));
-  IndexView order("sort_order", n);
+  auto order = uninitialized<IndexView>("sort_order", n);
   Kokkos::parallel_for(
       "kdem::bin_fill", RangePolicy(0, n), KOKKOS_LAMBDA(int i) {
         const int slot = Kokkos::atomic_fetch_add(&cursor(cell_of_particle(i)), 1);

@@ -38,7 +38,7 @@ template <class Visitor> void for_each_pair_list_field(Visitor&& visit) {
   visit("overlap", &PairList::overlap);
 }
 
-// Calls visit(i, j) for every other particle j within reach of i, in a fixed order.
+// Calls visit(j) for every particle j > i within reach of i, in a fixed order.
 template <class Visit>
 KOKKOS_INLINE_FUNCTION void for_each_candidate(const CellBins& bins, const Vec3View& position,
                                                const ScalarView& radius, double skin, int i,
@@ -59,9 +59,9 @@ KOKKOS_INLINE_FUNCTION void for_each_candidate(const CellBins& bins, const Vec3V
         if (cx < 0 || cx >= g.dims[0])
           continue;
         const int cell = g.flat(cx, cy, cz);
-        for (int j = bins.cell_start(cell); j < bins.cell_start(cell + 1); ++j) {
-          if (j == i)
-            continue;
+        // Half list: only partners after i in the cell-sorted order.
+        const int first = bins.cell_start(cell) > i ? bins.cell_start(cell) : i + 1;
+        for (int j = first; j < bins.cell_start(cell + 1); ++j) {
           const double reach = radius(i) + radius(j) + skin;
           if (norm2(load3(position, j) - xi) < reach * reach)
             visit(j);
@@ -71,28 +71,56 @@ KOKKOS_INLINE_FUNCTION void for_each_candidate(const CellBins& bins, const Vec3V
   }
 }
 
+// For each particle, the pairs in which it is j, in ascending pair order (so that the gather
+// order does not depend on scheduling): slots claimed with atomics, then each short row sorted.
+inline void fill_reverse_index(PairList& list, int particles) {
+  auto pair_j = list.pair_j;
+  IndexView reverse_count("reverse_count", particles);
+  Kokkos::parallel_for(
+      "kdem::pair_reverse_count", RangePolicy(0, list.pair_count),
+      KOKKOS_LAMBDA(int k) { Kokkos::atomic_increment(&reverse_count(pair_j(k))); });
+  int reverse_total = 0;
+  list.reverse_start = exclusive_scan_with_total(reverse_count, reverse_total);
+  list.reverse_pair = uninitialized<IndexView>("reverse_pair", reverse_total);
+  auto reverse_start = list.reverse_start;
+  auto reverse_pair = list.reverse_pair;
+  auto cursor = uninitialized<IndexView>("reverse_cursor", particles);
+  Kokkos::deep_copy(cursor, Kokkos::subview(reverse_start, Kokkos::make_pair(0, particles)));
+  Kokkos::parallel_for(
+      "kdem::pair_reverse_fill", RangePolicy(0, list.pair_count),
+      KOKKOS_LAMBDA(int k) { reverse_pair(Kokkos::atomic_fetch_add(&cursor(pair_j(k)), 1)) = k; });
+  Kokkos::parallel_for(
+      "kdem::pair_reverse_order", RangePolicy(0, particles), KOKKOS_LAMBDA(int i) {
+        const int begin = reverse_start(i), end = reverse_start(i + 1);
+        for (int a = begin + 1; a < end; ++a) { // insertion sort: rows hold a few pairs
+          const int moving = reverse_pair(a);
+          int b = a - 1;
+          while (b >= begin && reverse_pair(b) > moving) {
+            reverse_pair(b + 1) = reverse_pair(b);
+            --b;
+          }
+          reverse_pair(b + 1) = moving;
+        }
+      });
+}
+
 inline PairList build_pair_list(const ParticleViews& p, const CellBins& bins, double skin) {
   const int n = p.count;
   PairList list;
-  IndexView half_count("half_count", n), reverse_count("reverse_count", n);
+  IndexView half_count("half_count", n);
   auto position = p.position;
   auto radius = p.radius;
   Kokkos::parallel_for(
       "kdem::pair_count", RangePolicy(0, n), KOKKOS_LAMBDA(int i) {
-        int above = 0, below = 0;
-        for_each_candidate(bins, position, radius, skin, i,
-                           [&](int j) { (j > i ? above : below)++; });
+        int above = 0;
+        for_each_candidate(bins, position, radius, skin, i, [&](int) { ++above; });
         half_count(i) = above;
-        reverse_count(i) = below;
       });
-  int reverse_total = 0;
   list.row_start = exclusive_scan_with_total(half_count, list.pair_count);
-  list.reverse_start = exclusive_scan_with_total(reverse_count, reverse_total);
   const int pairs = list.pair_count;
-  list.pair_i = IndexView("pair_i", pairs);
-  list.pair_j = IndexView("pair_j", pairs);
-  list.partner_id = IdView("partner_id", pairs);
-  list.reverse_pair = IndexView("reverse_pair", reverse_total);
+  list.pair_i = uninitialized<IndexView>("pair_i", pairs);
+  list.pair_j = uninitialized<IndexView>("pair_j", pairs);
+  list.partner_id = uninitialized<IdView>("partner_id", pairs);
   list.tangential_spring = Vec3View("tangential_spring", pairs);
   list.rolling_torque = Vec3View("rolling_torque", pairs);
   list.force_on_i = Vec3View("pair_force", pairs);
@@ -107,28 +135,13 @@ inline PairList build_pair_list(const ParticleViews& p, const CellBins& bins, do
       "kdem::pair_fill", RangePolicy(0, n), KOKKOS_LAMBDA(int i) {
         int slot = row_start(i);
         for_each_candidate(bins, position, radius, skin, i, [&](int j) {
-          if (j < i)
-            return;
           pair_i(slot) = i;
           pair_j(slot) = j;
           partner_id(slot) = id(j);
           ++slot;
         });
       });
-  auto reverse_start = list.reverse_start;
-  auto reverse_pair = list.reverse_pair;
-  Kokkos::parallel_for(
-      "kdem::pair_reverse_fill", RangePolicy(0, n), KOKKOS_LAMBDA(int i) {
-        int slot = reverse_start(i);
-        for_each_candidate(bins, position, radius, skin, i, [&](int j) {
-          if (j > i)
-            return;
-          int k = row_start(j);
-          while (pair_j(k) != i)
-            ++k;
-          reverse_pair(slot++) = k;
-        });
-      });
+  fill_reverse_index(list, n);
   return list;
 }
 

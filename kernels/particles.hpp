@@ -64,7 +64,7 @@ template <class Visitor> void for_each_particle_field(Visitor&& visit) {
 template <class T>
 DeviceView<T*> gather_rows(const DeviceView<T*>& old_field, const IndexView& source,
                            int new_count) {
-  DeviceView<T*> result(old_field.label(), new_count);
+  auto result = uninitialized<DeviceView<T*>>(old_field.label(), new_count);
   Kokkos::parallel_for(
       "kdem::gather_rows", RangePolicy(0, new_count),
       KOKKOS_LAMBDA(int k) { result(k) = old_field(source(k)); });
@@ -74,7 +74,7 @@ DeviceView<T*> gather_rows(const DeviceView<T*>& old_field, const IndexView& sou
 template <class T, std::size_t N>
 DeviceView<T* [N]> gather_rows(const DeviceView<T* [N]>& old_field, const IndexView& source,
                                int new_count) {
-  DeviceView<T* [N]> result(old_field.label(), new_count);
+  auto result = uninitialized<DeviceView<T* [N]>>(old_field.label(), new_count);
   Kokkos::parallel_for(
       "kdem::gather_rows", RangePolicy(0, new_count), KOKKOS_LAMBDA(int k) {
         for (std::size_t c = 0; c < N; ++c)

@@ -3,6 +3,7 @@
 // Each library target is compiled for one backend by defining KDEM_EXEC_SPACE.
 #include <Kokkos_Core.hpp>
 #include <cstdint>
+#include <string>
 
 #ifndef KDEM_EXEC_SPACE
 #define KDEM_EXEC_SPACE Kokkos::DefaultExecutionSpace
@@ -21,5 +22,10 @@ using QuatView = DeviceView<double* [4]>;
 using ScalarView = DeviceView<double*>;
 using IndexView = DeviceView<int*>;
 using IdView = DeviceView<std::int64_t*>;
+
+// A View whose every entry the caller writes before reading: no zero-filling pass.
+template <class View> View uninitialized(const std::string& label, std::size_t rows) {
+  return View(Kokkos::view_alloc(Kokkos::WithoutInitializing, label), rows);
+}
 
 } // namespace kdem

@@ -277,8 +277,8 @@ inline WallContactList build_wall_contact_list(const ParticleViews& p, const Wal
       });
   list.row_start = exclusive_scan_with_total(counts, list.entry_count);
   const int entries = list.entry_count;
-  list.element = IndexView("wall_candidate_element", entries);
-  list.element_key = IdView("wall_candidate_key", entries);
+  list.element = uninitialized<IndexView>("wall_candidate_element", entries);
+  list.element_key = uninitialized<IdView>("wall_candidate_key", entries);
   list.tangential_spring = Vec3View("wall_tangential_spring", entries);
   list.rolling_torque = Vec3View("wall_rolling_torque", entries);
   list.overlap = ScalarView("wall_overlap", entries);
