@@ -44,7 +44,8 @@ void compute_sphere_pair_forces(const ParticleViews& p, PairList& list,
         const ContactOutput out =
             hertz_mindlin<RollingResistance>(table(material(i), material(j)), in, dt, history);
         store3(spring, k, history.tangential_spring);
-        store3(rolling, k, history.rolling_torque);
+        if constexpr (RollingResistance)
+          store3(rolling, k, history.rolling_torque);
         store3(force_on_i, k, out.force_on_i);
         store3(torque_on_i, k, cross(point - xi, out.force_on_i) + out.rolling_torque_on_i);
         store3(torque_on_j, k, cross(point - xj, -out.force_on_i) - out.rolling_torque_on_i);

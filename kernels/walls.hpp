@@ -376,7 +376,8 @@ void apply_gravity_and_wall_forces(const ParticleViews& p, const WallSet& walls,
           const ContactOutput out =
               hertz_mindlin<RollingResistance>(table(material(i), wall.material), in, dt, history);
           store3(spring, k, history.tangential_spring);
-          store3(rolling, k, history.rolling_torque);
+          if constexpr (RollingResistance)
+            store3(rolling, k, history.rolling_torque);
           overlap(k) = in.geometry.overlap;
           f += out.force_on_i;
           t += cross(point - xi, out.force_on_i) + out.rolling_torque_on_i;
