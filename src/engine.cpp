@@ -139,8 +139,9 @@ void Engine::State::setup_domain() {
   domain_min = lo;
   domain_max = hi;
   for (const ParticleSourceConfig& src : scene.sources) {
-    largest_radius = std::max(largest_radius, largest_possible_radius(src.sizes));
-    smallest_radius = std::min(smallest_radius, smallest_possible_radius(src.sizes));
+    const RadiusRange radii = possible_radii(src.sizes);
+    largest_radius = std::max(largest_radius, radii.largest);
+    smallest_radius = std::min(smallest_radius, radii.smallest);
   }
   skin = scene.skin;
 }
@@ -322,7 +323,9 @@ void Engine::State::write_new_rows(const std::vector<ParticleInit>& added, int f
 }
 
 double Engine::State::effective_skin() const {
-  return skin > 0 ? skin : default_skin_per_radius * (smallest_radius < 1e300 ? smallest_radius : largest_radius);
+  return skin > 0 ? skin
+                  : default_skin_per_radius *
+                        (smallest_radius < 1e300 ? smallest_radius : largest_radius);
 }
 
 // Conservative bound on how far any wall surface point has moved since the lists were built.

@@ -154,34 +154,21 @@ void check_sizes(const SizeDistributionConfig& sizes) {
 
 } // namespace
 
-// The largest radius draw_radius can return.
-double largest_possible_radius(const SizeDistributionConfig& sizes) {
+// The smallest and largest radius draw_radius can return.
+RadiusRange possible_radii(const SizeDistributionConfig& sizes) {
   using Kind = SizeDistributionConfig::Kind;
   switch (sizes.kind) {
   case Kind::Monodisperse:
-    return sizes.radius;
+    return {sizes.radius, sizes.radius};
   case Kind::Uniform:
   case Kind::Gaussian:
-    return sizes.max_radius;
-  case Kind::Discrete:
-    return *std::max_element(sizes.radii.begin(), sizes.radii.end());
+    return {sizes.min_radius, sizes.max_radius};
+  case Kind::Discrete: {
+    const auto [lo, hi] = std::minmax_element(sizes.radii.begin(), sizes.radii.end());
+    return {*lo, *hi};
   }
-  return 0;
-}
-
-// The smallest radius draw_radius can return.
-double smallest_possible_radius(const SizeDistributionConfig& sizes) {
-  using Kind = SizeDistributionConfig::Kind;
-  switch (sizes.kind) {
-  case Kind::Monodisperse:
-    return sizes.radius;
-  case Kind::Uniform:
-  case Kind::Gaussian:
-    return sizes.min_radius;
-  case Kind::Discrete:
-    return *std::min_element(sizes.radii.begin(), sizes.radii.end());
   }
-  return 0;
+  return {0, 0};
 }
 
 namespace {
@@ -524,7 +511,7 @@ private:
 // even that many of the smallest size would fill the region. Sizes the overlap grid only.
 double most_that_could_fit(const ParticleSourceConfig& source, std::int64_t max_new) {
   const double volume_bound =
-      region_volume(source.region) / sphere_volume(smallest_possible_radius(source.sizes));
+      region_volume(source.region) / sphere_volume(possible_radii(source.sizes).smallest);
   return std::min(static_cast<double>(max_new), volume_bound);
 }
 
@@ -585,7 +572,7 @@ std::vector<ParticleSeed> generate_particles(const ParticleSourceConfig& source,
   check_sizes(source.sizes);
   if (max_new <= 0)
     return {};
-  const double largest_new_radius = largest_possible_radius(source.sizes);
+  const double largest_new_radius = possible_radii(source.sizes).largest;
   const std::vector<Sphere> obstacles_near =
       obstacles_reaching_region(obstacles, region_bounds(source.region), largest_new_radius);
   if (source.volume_fraction > 0) {

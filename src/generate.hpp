@@ -34,9 +34,11 @@ std::vector<ParticleSeed> generate_particles(const ParticleSourceConfig& source,
 // fraction, so class k is drawn with probability proportional to fraction_k / r_k^3.
 double draw_radius(const SizeDistributionConfig& sizes, std::mt19937_64& rng);
 
-// The largest and smallest radius draw_radius can return.
-double largest_possible_radius(const SizeDistributionConfig& sizes);
-double smallest_possible_radius(const SizeDistributionConfig& sizes);
+// The smallest and largest radius draw_radius can return.
+struct RadiusRange {
+  double smallest = 0, largest = 0;
+};
+RadiusRange possible_radii(const SizeDistributionConfig& sizes);
 
 // Volume of a region, m^3.
 double region_volume(const RegionConfig& region);
