@@ -89,15 +89,17 @@ inline void permute_particles(ParticleViews& p, const IndexView& source, int new
   p.count = new_count;
 }
 
-// Copies the first `rows` rows of every field of `from` into `to`.
-inline void copy_particle_rows(const ParticleViews& from, ParticleViews& to, int rows) {
+// Copies the first `rows` rows of every field of `from` into `to`, from row first_row_in_to on.
+inline void copy_particle_rows(const ParticleViews& from, ParticleViews& to, int rows,
+                               int first_row_in_to = 0) {
   for_each_particle_field([&](const char*, auto member) {
-    const auto range = std::make_pair(0, rows);
+    const auto source = std::make_pair(0, rows);
+    const auto target = std::make_pair(first_row_in_to, first_row_in_to + rows);
     if constexpr (std::decay_t<decltype(from.*member)>::rank == 1)
-      Kokkos::deep_copy(Kokkos::subview(to.*member, range), Kokkos::subview(from.*member, range));
+      Kokkos::deep_copy(Kokkos::subview(to.*member, target), Kokkos::subview(from.*member, source));
     else
-      Kokkos::deep_copy(Kokkos::subview(to.*member, range, Kokkos::ALL),
-                        Kokkos::subview(from.*member, range, Kokkos::ALL));
+      Kokkos::deep_copy(Kokkos::subview(to.*member, target, Kokkos::ALL),
+                        Kokkos::subview(from.*member, source, Kokkos::ALL));
   });
 }
 

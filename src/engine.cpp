@@ -21,10 +21,12 @@ Vec3 to_vec3(const Vec3d& a) {
   return {a[0], a[1], a[2]};
 }
 
-double mean_or_override(double a, double b) {
+// Pairs of different materials without an `interactions` entry take the mean of both values.
+double mean(double a, double b) {
   return 0.5 * (a + b);
 }
 
+// E* and G* of Hertz-Mindlin (Johnson 1985; Mindlin 1949 as in LIGGGHTS and EDEM).
 PairCoefficients coefficients_for(const MaterialConfig& a, const MaterialConfig& b,
                                   const std::vector<InteractionConfig>& interactions) {
   PairCoefficients c;
@@ -32,9 +34,9 @@ PairCoefficients coefficients_for(const MaterialConfig& a, const MaterialConfig&
                               (1 - b.poisson_ratio * b.poisson_ratio) / b.youngs_modulus);
   c.effective_shear = 1.0 / (2 * (2 - a.poisson_ratio) * (1 + a.poisson_ratio) / a.youngs_modulus +
                              2 * (2 - b.poisson_ratio) * (1 + b.poisson_ratio) / b.youngs_modulus);
-  double restitution = mean_or_override(a.restitution, b.restitution);
-  c.friction = mean_or_override(a.friction, b.friction);
-  c.rolling_friction = mean_or_override(a.rolling_friction, b.rolling_friction);
+  double restitution = mean(a.restitution, b.restitution);
+  c.friction = mean(a.friction, b.friction);
+  c.rolling_friction = mean(a.rolling_friction, b.rolling_friction);
   for (const InteractionConfig& i : interactions) {
     if ((i.material_a == a.name && i.material_b == b.name) ||
         (i.material_a == b.name && i.material_b == a.name)) {
@@ -259,12 +261,13 @@ void Engine::add_particles(const std::vector<ParticleInit>& particles) {
 void Engine::State::append_particles(const std::vector<ParticleInit>& added) {
   if (added.empty())
     return;
+  const ParticleViews fresh = upload_new_particles(added);
   const int old_count = particles.count;
   ParticleViews grown;
-  grown.allocate(old_count + int(added.size()));
+  grown.allocate(old_count + fresh.count);
   copy_particle_rows(particles, grown, old_count);
+  copy_particle_rows(fresh, grown, fresh.count, old_count);
   particles = grown;
-  write_new_rows(added, old_count);
   for (const ParticleInit& p : added) {
     largest_radius = std::max(largest_radius, p.radius);
     smallest_radius = std::min(smallest_radius, p.radius);
@@ -272,8 +275,10 @@ void Engine::State::append_particles(const std::vector<ParticleInit>& added) {
   needs_rebuild = true;
 }
 
-void Engine::State::write_new_rows(const std::vector<ParticleInit>& added, int first) {
-  ParticleViews& p = particles;
+// Device rows for `added`, with mass and inertia from the material and fresh ids.
+ParticleViews Engine::State::upload_new_particles(const std::vector<ParticleInit>& added) {
+  ParticleViews p;
+  p.allocate(int(added.size()));
   auto x = Kokkos::create_mirror_view(p.position);
   auto v = Kokkos::create_mirror_view(p.velocity);
   auto w = Kokkos::create_mirror_view(p.angular_velocity);
@@ -283,34 +288,24 @@ void Engine::State::write_new_rows(const std::vector<ParticleInit>& added, int f
   auto inertia = Kokkos::create_mirror_view(p.inertia);
   auto material = Kokkos::create_mirror_view(p.material);
   auto id = Kokkos::create_mirror_view(p.id);
-  Kokkos::deep_copy(x, p.position);
-  Kokkos::deep_copy(v, p.velocity);
-  Kokkos::deep_copy(w, p.angular_velocity);
-  Kokkos::deep_copy(q, p.orientation);
-  Kokkos::deep_copy(radius, p.radius);
-  Kokkos::deep_copy(mass, p.mass);
-  Kokkos::deep_copy(inertia, p.inertia);
-  Kokkos::deep_copy(material, p.material);
-  Kokkos::deep_copy(id, p.id);
-  for (std::size_t k = 0; k < added.size(); ++k) {
-    const ParticleInit& a = added[k];
-    const int i = first + int(k);
+  for (int i = 0; i < p.count; ++i) {
+    const ParticleInit& a = added[i];
     if (!(a.radius > 0))
       throw std::runtime_error("particle radius must be positive");
     if (a.material < 0 || a.material >= int(scene.materials.size()))
       throw std::runtime_error("particle material index out of range");
-    const double density = scene.materials[a.material].density;
     for (int c = 0; c < 3; ++c)
       x(i, c) = a.position[c], v(i, c) = a.velocity[c], w(i, c) = a.angular_velocity[c];
     for (int c = 0; c < 4; ++c)
       q(i, c) = a.orientation[c];
     radius(i) = a.radius;
-    mass(i) = density * sphere_volume(a.radius);
+    mass(i) = scene.materials[a.material].density * sphere_volume(a.radius);
     for (int c = 0; c < 3; ++c)
       inertia(i, c) = sphere_inertia(mass(i), a.radius);
     material(i) = a.material;
-    id(i) = next_id++;
+    id(i) = next_id + i;
   }
+  next_id += p.count;
   Kokkos::deep_copy(p.position, x);
   Kokkos::deep_copy(p.velocity, v);
   Kokkos::deep_copy(p.angular_velocity, w);
@@ -320,6 +315,7 @@ void Engine::State::write_new_rows(const std::vector<ParticleInit>& added, int f
   Kokkos::deep_copy(p.inertia, inertia);
   Kokkos::deep_copy(p.material, material);
   Kokkos::deep_copy(p.id, id);
+  return p;
 }
 
 double Engine::State::effective_skin() const {

@@ -65,7 +65,7 @@ struct Engine::State {
   Obstacles current_obstacles() const;
   void append_seeds(const std::vector<ParticleSeed>& seeds, int material);
   void append_particles(const std::vector<ParticleInit>& added);
-  void write_new_rows(const std::vector<ParticleInit>& added, int first);
+  ParticleViews upload_new_particles(const std::vector<ParticleInit>& added);
 
   double effective_skin() const;
   double wall_travel_since_build() const;
