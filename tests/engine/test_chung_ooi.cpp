@@ -273,7 +273,6 @@ struct Oblique {
   double vt_after = 0, vn_after = 0;
   double spin_after = 0;          // w_y', rad/s
   double contact_point_after = 0; // u' = vt' - R w_y'
-  double tangential_restitution() const { return vt_after / vt; }
   double rebound_angle() const { return std::atan2(vt_after, vn_after); } // from the normal
 };
 
