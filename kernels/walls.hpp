@@ -99,18 +99,11 @@ KOKKOS_INLINE_FUNCTION Vec3 geometry_vec(const DeviceView<double* [9]>& g, int e
 
 KOKKOS_INLINE_FUNCTION SurfaceQuery cylinder_query(const WallElements& el, int e, Vec3 p,
                                                    bool& in_range) {
-  const Vec3 base = geometry_vec(el.geometry, e, 0), axis = geometry_vec(el.geometry, e, 3);
-  const double radius = el.geometry(e, 6), length = el.geometry(e, 7);
-  const Vec3 local = p - base;
-  const double along = dot(local, axis);
-  const Vec3 radial = local - along * axis;
-  const double rho = norm(radial);
-  SurfaceQuery q;
-  const Vec3 outward = rho > 1e-300 ? (1.0 / rho) * radial : Vec3{1, 0, 0};
-  q.signed_distance = radius - rho;
-  q.point = base + along * axis + radius * outward;
-  q.free_normal = -outward;
-  in_range = along >= 0 && along <= length;
+  double along = 0;
+  const SurfaceQuery q =
+      cylinder_inside_query(geometry_vec(el.geometry, e, 0), geometry_vec(el.geometry, e, 3),
+                            el.geometry(e, 6), p, along);
+  in_range = along >= 0 && along <= el.geometry(e, 7);
   return q;
 }
 
@@ -241,12 +234,12 @@ template <class Visitor> void for_each_wall_contact_field(Visitor&& visit) {
 
 KOKKOS_INLINE_FUNCTION bool element_within_reach(const WallElements& el, int e, Vec3 p,
                                                  double reach) {
-  bool in_range = true;
   if (el.kind(e) == cylinder_element) {
-    const Vec3 base = geometry_vec(el.geometry, e, 0), axis = geometry_vec(el.geometry, e, 3);
-    const double along = dot(p - base, axis);
-    in_range = along >= -reach && along <= el.geometry(e, 7) + reach;
-    return in_range && cylinder_query(el, e, p, in_range).signed_distance < reach;
+    double along = 0;
+    const SurfaceQuery q =
+        cylinder_inside_query(geometry_vec(el.geometry, e, 0), geometry_vec(el.geometry, e, 3),
+                              el.geometry(e, 6), p, along);
+    return along >= -reach && along <= el.geometry(e, 7) + reach && q.signed_distance < reach;
   }
   if (el.kind(e) == plane_element)
     return plane_query(geometry_vec(el.geometry, e, 0), geometry_vec(el.geometry, e, 3), p)

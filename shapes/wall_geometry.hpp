@@ -24,15 +24,20 @@ KOKKOS_INLINE_FUNCTION SurfaceQuery plane_query(Vec3 origin, Vec3 normal, Vec3 p
   return q;
 }
 
-// Inside of a cylinder: axis along local z through the origin, the given radius. Particles live
-// inside; the free normal points towards the axis.
-KOKKOS_INLINE_FUNCTION SurfaceQuery cylinder_inside_query(double radius, Vec3 p) {
+// Inside of a cylinder of the given radius whose axis passes through `base` along the unit
+// vector `axis`. Particles live inside; the free normal points towards the axis. `along` is the
+// coordinate of p along the axis, measured from `base`.
+KOKKOS_INLINE_FUNCTION SurfaceQuery cylinder_inside_query(Vec3 base, Vec3 axis, double radius,
+                                                          Vec3 p, double& along) {
+  const Vec3 local = p - base;
+  along = dot(local, axis);
+  const Vec3 radial = local - along * axis;
+  const double rho = norm(radial);
+  const Vec3 outward = rho > 1e-300 ? (1.0 / rho) * radial : Vec3{1, 0, 0};
   SurfaceQuery q;
-  const double rho = math::sqrt(p.x * p.x + p.y * p.y);
-  const Vec3 radial = rho > 1e-300 ? Vec3{p.x / rho, p.y / rho, 0} : Vec3{1, 0, 0};
   q.signed_distance = radius - rho;
-  q.point = Vec3{radius * radial.x, radius * radial.y, p.z};
-  q.free_normal = -radial;
+  q.point = base + along * axis + radius * outward;
+  q.free_normal = -outward;
   return q;
 }
 

@@ -271,8 +271,8 @@ TEST(ChungOoiTest2, RestitutionOnRigidPlane) {
 struct Oblique {
   double vt = 0, vn = 0;
   double vt_after = 0, vn_after = 0;
-  double spin_after = 0;          // w_y', rad/s
-  double contact_point_after = 0; // u' = vt' - R w_y'
+  double spin_after = 0;                                                  // w_y', rad/s
+  double contact_point_after = 0;                                         // u' = vt' - R w_y'
   double rebound_angle() const { return std::atan2(vt_after, vn_after); } // from the normal
 };
 

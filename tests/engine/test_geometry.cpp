@@ -77,7 +77,10 @@ TEST(Quaternion, RotationVectorIsExactAcrossTheSeriesSwitch) {
 }
 
 TEST(CylinderInside, DistanceFromTheAxis) {
-  const SurfaceQuery q = cylinder_inside_query(0.03, {0.01, 0.0, 0.5});
+  double along = 0;
+  const SurfaceQuery q =
+      cylinder_inside_query({0, 0, 0.1}, {0, 0, 1}, 0.03, {0.01, 0.0, 0.5}, along);
+  EXPECT_NEAR(along, 0.4, 1e-16);
   EXPECT_NEAR(q.signed_distance, 0.02, 1e-16);
   EXPECT_NEAR(q.free_normal.x, -1.0, 1e-16);
   EXPECT_NEAR(q.point.x, 0.03, 1e-16);
