@@ -33,6 +33,7 @@ struct EnergySums {
 
 inline EnergySums kinetic_and_potential_energy(const ParticleViews& p, Vec3 gravity) {
   auto x = p.position, v = p.velocity, w = p.angular_velocity;
+  auto q = p.orientation;
   auto mass = p.mass;
   auto inertia = p.inertia;
   double translational = 0, rotational = 0, potential = 0;
@@ -40,7 +41,10 @@ inline EnergySums kinetic_and_potential_energy(const ParticleViews& p, Vec3 grav
       "kdem::energy", RangePolicy(0, p.count),
       KOKKOS_LAMBDA(int i, double& et, double& er, double& ep) {
         et += 0.5 * mass(i) * norm2(load3(v, i));
-        er += 0.5 * inertia(i, 0) * norm2(load3(w, i));
+        const Vec3 body_omega = rotate_inverse(load_quat(q, i), load3(w, i));
+        er += 0.5 * (inertia(i, 0) * body_omega.x * body_omega.x +
+                     inertia(i, 1) * body_omega.y * body_omega.y +
+                     inertia(i, 2) * body_omega.z * body_omega.z);
         ep -= mass(i) * dot(gravity, load3(x, i));
       },
       translational, rotational, potential);

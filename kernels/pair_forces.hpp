@@ -5,51 +5,75 @@
 
 namespace kdem {
 
-template <bool RollingResistance>
+// The per-pair results a contact writes, and how it clears them when it ends.
+struct PairSlots {
+  Vec3View spring, rolling, force_on_i, torque_on_i, torque_on_j;
+  ScalarView overlap;
+
+  explicit PairSlots(const PairList& list)
+      : spring(list.tangential_spring), rolling(list.rolling_torque), force_on_i(list.force_on_i),
+        torque_on_i(list.torque_on_i), torque_on_j(list.torque_on_j), overlap(list.overlap) {}
+
+  KOKKOS_INLINE_FUNCTION void clear(int k) const {
+    if (overlap(k) == 0)
+      return; // every value is already zero (see PairList)
+    store3(spring, k, Vec3{});
+    store3(rolling, k, Vec3{});
+    store3(force_on_i, k, Vec3{});
+    store3(torque_on_i, k, Vec3{});
+    store3(torque_on_j, k, Vec3{});
+    overlap(k) = 0;
+  }
+
+  // Hertz-Mindlin at a contact whose geometry is given with the normal from j towards i.
+  template <bool RollingResistance>
+  KOKKOS_INLINE_FUNCTION void apply(int k, const ParticleViews& p, int i, int j,
+                                    const ContactGeometry& geometry, double effective_radius,
+                                    const PairCoefficients& coefficients, double dt) const {
+    ContactInput in;
+    in.geometry = geometry;
+    const Vec3 xi = load3(p.position, i), xj = load3(p.position, j);
+    const Vec3 wi = load3(p.angular_velocity, i), wj = load3(p.angular_velocity, j);
+    const Vec3 point = geometry.point;
+    in.relative_velocity = point_velocity(load3(p.velocity, i), wi, xi, point) -
+                           point_velocity(load3(p.velocity, j), wj, xj, point);
+    in.relative_angular_velocity = wi - wj;
+    in.effective_radius = effective_radius;
+    in.effective_mass = p.mass(i) * p.mass(j) / (p.mass(i) + p.mass(j));
+    ContactHistory history{load3(spring, k), load3(rolling, k)};
+    const ContactOutput out = hertz_mindlin<RollingResistance>(coefficients, in, dt, history);
+    store3(spring, k, history.tangential_spring);
+    if constexpr (RollingResistance)
+      store3(rolling, k, history.rolling_torque);
+    store3(force_on_i, k, out.force_on_i);
+    store3(torque_on_i, k, cross(point - xi, out.force_on_i) + out.rolling_torque_on_i);
+    store3(torque_on_j, k, cross(point - xj, -out.force_on_i) - out.rolling_torque_on_i);
+    overlap(k) = geometry.overlap;
+  }
+};
+
+// Sphere-sphere forces for `count` pairs, the m-th of which is row row_of(m) of the list.
+template <bool RollingResistance, class RowOf = AllRows>
 void compute_sphere_pair_forces(const ParticleViews& p, PairList& list,
-                                const CoefficientTable& table, double dt) {
-  auto x = p.position, v = p.velocity, w = p.angular_velocity;
-  auto radius = p.radius, mass = p.mass;
-  auto material = p.material;
+                                const CoefficientTable& table, double dt, int count = -1,
+                                RowOf row_of = RowOf{}) {
+  if (count < 0)
+    count = list.pair_count;
   auto pair_i = list.pair_i, pair_j = list.pair_j;
-  auto spring = list.tangential_spring, rolling = list.rolling_torque;
-  auto force_on_i = list.force_on_i, torque_on_i = list.torque_on_i, torque_on_j = list.torque_on_j;
-  auto overlap = list.overlap;
+  const PairSlots slots(list);
   Kokkos::parallel_for(
-      "kdem::sphere_pair_forces", RangePolicy(0, list.pair_count), KOKKOS_LAMBDA(int k) {
+      "kdem::sphere_pair_forces", RangePolicy(0, count), KOKKOS_LAMBDA(int m) {
+        const int k = row_of(m);
         const int i = pair_i(k), j = pair_j(k);
-        const Vec3 xi = load3(x, i), xj = load3(x, j);
-        ContactInput in;
-        in.geometry = sphere_sphere(xi, radius(i), xj, radius(j));
-        if (!in.geometry.touching) {
-          // overlap(k) == 0 means every per-pair value is already zero (see PairList).
-          if (overlap(k) == 0)
-            return;
-          store3(spring, k, Vec3{});
-          store3(rolling, k, Vec3{});
-          store3(force_on_i, k, Vec3{});
-          store3(torque_on_i, k, Vec3{});
-          store3(torque_on_j, k, Vec3{});
-          overlap(k) = 0;
+        const double ri = p.radius(i), rj = p.radius(j);
+        const ContactGeometry geometry =
+            sphere_sphere(load3(p.position, i), ri, load3(p.position, j), rj);
+        if (!geometry.touching) {
+          slots.clear(k);
           return;
         }
-        const Vec3 point = in.geometry.point;
-        const Vec3 wi = load3(w, i), wj = load3(w, j);
-        in.relative_velocity =
-            point_velocity(load3(v, i), wi, xi, point) - point_velocity(load3(v, j), wj, xj, point);
-        in.relative_angular_velocity = wi - wj;
-        in.effective_radius = radius(i) * radius(j) / (radius(i) + radius(j));
-        in.effective_mass = mass(i) * mass(j) / (mass(i) + mass(j));
-        ContactHistory history{load3(spring, k), load3(rolling, k)};
-        const ContactOutput out =
-            hertz_mindlin<RollingResistance>(table(material(i), material(j)), in, dt, history);
-        store3(spring, k, history.tangential_spring);
-        if constexpr (RollingResistance)
-          store3(rolling, k, history.rolling_torque);
-        store3(force_on_i, k, out.force_on_i);
-        store3(torque_on_i, k, cross(point - xi, out.force_on_i) + out.rolling_torque_on_i);
-        store3(torque_on_j, k, cross(point - xj, -out.force_on_i) - out.rolling_torque_on_i);
-        overlap(k) = in.geometry.overlap;
+        slots.apply<RollingResistance>(k, p, i, j, geometry, ri * rj / (ri + rj),
+                                       table(p.material(i), p.material(j)), dt);
       });
 }
 

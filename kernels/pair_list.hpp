@@ -21,6 +21,11 @@ struct PairList {
   Vec3View torque_on_i; // N m
   Vec3View torque_on_j;
   ScalarView overlap; // m, 0 when not touching; then all per-pair values above are 0 too
+  // Superquadric pairs only (empty in scenes of spheres): the Newton warm start (midway point,
+  // multiplier; multiplier 0 = none) and the axis that last separated the bounding boxes.
+  Vec3View midway_point;
+  ScalarView midway_multiplier;
+  IndexView separating_axis;
 };
 
 template <class Visitor> void for_each_pair_list_field(Visitor&& visit) {
@@ -36,6 +41,9 @@ template <class Visitor> void for_each_pair_list_field(Visitor&& visit) {
   visit("torque_on_i", &PairList::torque_on_i);
   visit("torque_on_j", &PairList::torque_on_j);
   visit("overlap", &PairList::overlap);
+  visit("midway_point", &PairList::midway_point);
+  visit("midway_multiplier", &PairList::midway_multiplier);
+  visit("separating_axis", &PairList::separating_axis);
 }
 
 // Calls visit(j) for every particle j > i within reach of i, in a fixed order.
@@ -104,7 +112,15 @@ inline void fill_reverse_index(PairList& list, int particles) {
       });
 }
 
-inline PairList build_pair_list(const ParticleViews& p, const CellBins& bins, double skin) {
+inline void allocate_superquadric_pair_state(PairList& list) {
+  list.midway_point = Vec3View("pair_midway_point", list.pair_count);
+  list.midway_multiplier = ScalarView("pair_midway_multiplier", list.pair_count);
+  list.separating_axis = IndexView("pair_separating_axis", list.pair_count);
+  Kokkos::deep_copy(list.separating_axis, -1);
+}
+
+inline PairList build_pair_list(const ParticleViews& p, const CellBins& bins, double skin,
+                                bool superquadric_state = false) {
   const int n = p.count;
   PairList list;
   IndexView half_count("half_count", n);
@@ -127,6 +143,8 @@ inline PairList build_pair_list(const ParticleViews& p, const CellBins& bins, do
   list.torque_on_i = Vec3View("pair_torque_i", pairs);
   list.torque_on_j = Vec3View("pair_torque_j", pairs);
   list.overlap = ScalarView("pair_overlap", pairs);
+  if (superquadric_state)
+    allocate_superquadric_pair_state(list);
   auto row_start = list.row_start;
   auto pair_i = list.pair_i, pair_j = list.pair_j;
   auto partner_id = list.partner_id;
@@ -165,6 +183,44 @@ KOKKOS_INLINE_FUNCTION int find_in_row(const IndexView& row_start, const IdView&
   return -1;
 }
 
+// Finds pair (a, b) of stable ids in the old list: its slot, and whether it was stored as (b, a).
+KOKKOS_INLINE_FUNCTION int find_old_pair(const PairList& old, const IndexView& old_row_of_id,
+                                         std::int64_t a, std::int64_t b, bool& flipped) {
+  flipped = false;
+  const int found = find_in_row(old.row_start, old.partner_id, old_row_of_id(a), b);
+  if (found >= 0)
+    return found;
+  flipped = true;
+  return find_in_row(old.row_start, old.partner_id, old_row_of_id(b), a);
+}
+
+// Warm starts survive a rebuild. Flipped pairs: grad F_j + (1/lambda^2) grad F_i = 0, so the
+// multiplier becomes 1/lambda; the box axes of i and j swap, so the separating-axis hint is
+// dropped.
+inline void transfer_superquadric_pair_state(PairList& fresh, const PairList& old,
+                                             const IndexView& old_row_of_id, const IdView& id) {
+  auto pair_i = fresh.pair_i;
+  auto partner = fresh.partner_id;
+  auto point = fresh.midway_point;
+  auto multiplier = fresh.midway_multiplier;
+  auto axis = fresh.separating_axis;
+  auto old_point = old.midway_point;
+  auto old_multiplier = old.midway_multiplier;
+  auto old_axis = old.separating_axis;
+  Kokkos::parallel_for(
+      "kdem::superquadric_state_transfer", RangePolicy(0, fresh.pair_count), KOKKOS_LAMBDA(int k) {
+        bool flipped = false;
+        const int found = find_old_pair(old, old_row_of_id, id(pair_i(k)), partner(k), flipped);
+        if (found < 0)
+          return;
+        for (int c = 0; c < 3; ++c)
+          point(k, c) = old_point(found, c);
+        const double lambda = old_multiplier(found);
+        multiplier(k) = flipped ? (lambda > 0 ? 1.0 / lambda : 0.0) : lambda;
+        axis(k) = flipped ? -1 : old_axis(found);
+      });
+}
+
 // Copies the history of every pair that was in the old list; a pair whose order of i and j
 // flipped gets its vectors negated (they are defined for the body i).
 inline void transfer_pair_history(PairList& fresh, const PairList& old,
@@ -193,6 +249,8 @@ inline void transfer_pair_history(PairList& fresh, const PairList& old,
           rolling(k, c) = sign * old_rolling(found, c);
         }
       });
+  if (fresh.midway_point.extent(0) > 0 && old.midway_point.extent(0) > 0)
+    transfer_superquadric_pair_state(fresh, old, old_row_of_id, id);
 }
 
 } // namespace kdem

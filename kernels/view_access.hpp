@@ -26,4 +26,15 @@ template <class View> KOKKOS_INLINE_FUNCTION void store_quat(const View& v, int 
   v(i, 3) = q.z;
 }
 
+// Row maps for kernels that run over all rows of a store or over the rows of an index list
+// (one particle family or pair type of a mixed scene).
+struct AllRows {
+  KOKKOS_INLINE_FUNCTION int operator()(int k) const { return k; }
+};
+
+struct ListedRows {
+  IndexView rows;
+  KOKKOS_INLINE_FUNCTION int operator()(int m) const { return rows(m); }
+};
+
 } // namespace kdem

@@ -76,6 +76,13 @@ struct WallElements {
   Vec3View vertex_edge_direction;  // unit vectors from the vertex along its edges
   IndexView vertex_triangle_start; // CSR over vertices
   IndexView vertex_triangle;       // elements around the vertex
+  // Superquadric contact (see superquadric_walls.hpp): stored triangle normals, the triangles
+  // of each edge, corner flags and the ring of neighbour vertices of each vertex.
+  Vec3View triangle_normal;
+  DeviceView<int* [2]> edge_triangles;
+  IndexView vertex_corner;
+  IndexView vertex_ring_start;
+  DeviceView<Vec3*> vertex_ring;
 };
 
 struct WallSet {
@@ -320,14 +327,22 @@ inline void transfer_wall_history(WallContactList& fresh, const WallContactList&
 
 // Sets each particle's force to gravity plus its wall contact forces, and its torque to the
 // wall torques. Runs before the pair gather, which adds to these.
-template <bool RollingResistance>
-void apply_gravity_and_wall_forces(const ParticleViews& p, const WallSet& walls,
-                                   WallContactList& list, const CoefficientTable& table,
-                                   Vec3 gravity, double dt) {
-  auto x = p.position, v = p.velocity, w = p.angular_velocity;
-  auto radius = p.radius, mass = p.mass;
-  auto material = p.material;
-  auto force = p.force, torque = p.torque;
+// A particle-wall contact in the world frame, with the Hertz radius it gets.
+struct WallContactGeometry {
+  ContactGeometry geometry;
+  double effective_radius = 0; // m
+};
+
+// Sets each of `count` particles' force to gravity plus its wall contact forces and its torque
+// to the wall torques (the m-th particle is row row_of(m)). contact_of(i, e, pose) gives the
+// contact of particle i with element e of a wall at that pose; the particle family decides
+// how (spheres below, superquadrics in superquadric_walls.hpp). Runs before the pair gather,
+// which adds to these.
+template <bool RollingResistance, class RowOf, class ContactOf>
+void apply_gravity_and_wall_contacts(const std::string& label, const ParticleViews& p,
+                                     const WallSet& walls, WallContactList& list,
+                                     const CoefficientTable& table, Vec3 gravity, double dt,
+                                     int count, RowOf row_of, ContactOf contact_of) {
   auto el = walls.elements;
   auto pose = walls.pose;
   auto row_start = list.row_start;
@@ -335,39 +350,33 @@ void apply_gravity_and_wall_forces(const ParticleViews& p, const WallSet& walls,
   auto spring = list.tangential_spring, rolling = list.rolling_torque;
   auto overlap = list.overlap;
   Kokkos::parallel_for(
-      "kdem::gravity_and_wall_forces", RangePolicy(0, p.count), KOKKOS_LAMBDA(int i) {
-        const Vec3 xi = load3(x, i), vi = load3(v, i), wi = load3(w, i);
-        Vec3 f = mass(i) * gravity, t{};
+      label, RangePolicy(0, count), KOKKOS_LAMBDA(int m) {
+        const int i = row_of(m);
+        const Vec3 xi = load3(p.position, i), vi = load3(p.velocity, i),
+                   wi = load3(p.angular_velocity, i);
+        Vec3 f = p.mass(i) * gravity, t{};
         for (int k = row_start(i); k < row_start(i + 1); ++k) {
           const int e = element(k);
           const WallPose wall = pose(el.wall(e));
-          bool applies = wall.active != 0;
-          SurfaceQuery q;
-          if (applies)
-            q = query_element(el, e, wall.to_reference(xi), applies);
-          ContactInput in;
-          if (applies) {
-            const ContactGeometry local = sphere_on_surface(wall.to_reference(xi), radius(i),
-                                                            q.signed_distance, q.free_normal);
-            in.geometry.touching = local.touching;
-            in.geometry.overlap = local.overlap;
-            in.geometry.normal = rotate(wall.rotation, local.normal);
-            in.geometry.point = wall.to_world(local.point);
-          }
-          if (!applies || !in.geometry.touching) {
+          WallContactGeometry contact;
+          if (wall.active != 0)
+            contact = contact_of(i, e, wall);
+          if (!contact.geometry.touching) {
             store3(spring, k, Vec3{});
             store3(rolling, k, Vec3{});
             overlap(k) = 0;
             continue;
           }
+          ContactInput in;
+          in.geometry = contact.geometry;
           const Vec3 point = in.geometry.point;
           in.relative_velocity = point_velocity(vi, wi, xi, point) - wall.velocity_at(point);
           in.relative_angular_velocity = wi - wall.omega;
-          in.effective_radius = radius(i);
-          in.effective_mass = mass(i);
+          in.effective_radius = contact.effective_radius;
+          in.effective_mass = p.mass(i);
           ContactHistory history{load3(spring, k), load3(rolling, k)};
-          const ContactOutput out =
-              hertz_mindlin<RollingResistance>(table(material(i), wall.material), in, dt, history);
+          const ContactOutput out = hertz_mindlin<RollingResistance>(
+              table(p.material(i), wall.material), in, dt, history);
           store3(spring, k, history.tangential_spring);
           if constexpr (RollingResistance)
             store3(rolling, k, history.rolling_torque);
@@ -375,9 +384,45 @@ void apply_gravity_and_wall_forces(const ParticleViews& p, const WallSet& walls,
           f += out.force_on_i;
           t += cross(point - xi, out.force_on_i) + out.rolling_torque_on_i;
         }
-        store3(force, i, f);
-        store3(torque, i, t);
+        store3(p.force, i, f);
+        store3(p.torque, i, t);
       });
+}
+
+// A sphere against a wall element: the closest-point query in the wall's frame.
+struct SphereWallContact {
+  WallElements el;
+  Vec3View position;
+  ScalarView radius;
+
+  KOKKOS_INLINE_FUNCTION WallContactGeometry operator()(int i, int e, const WallPose& wall) const {
+    WallContactGeometry contact;
+    const Vec3 centre = wall.to_reference(load3(position, i));
+    bool applies = true;
+    const SurfaceQuery q = query_element(el, e, centre, applies);
+    if (!applies)
+      return contact;
+    const ContactGeometry local =
+        sphere_on_surface(centre, radius(i), q.signed_distance, q.free_normal);
+    contact.geometry.touching = local.touching;
+    contact.geometry.overlap = local.overlap;
+    contact.geometry.normal = rotate(wall.rotation, local.normal);
+    contact.geometry.point = wall.to_world(local.point);
+    contact.effective_radius = radius(i);
+    return contact;
+  }
+};
+
+// Spheres against walls: for `count` particles, the m-th being row row_of(m) (all particles by
+// default; the spheres of a mixed scene through their index list).
+template <bool RollingResistance, class RowOf = AllRows>
+void apply_gravity_and_wall_forces(const ParticleViews& p, const WallSet& walls,
+                                   WallContactList& list, const CoefficientTable& table,
+                                   Vec3 gravity, double dt, int count = -1,
+                                   RowOf row_of = RowOf{}) {
+  apply_gravity_and_wall_contacts<RollingResistance>(
+      "kdem::gravity_and_wall_forces", p, walls, list, table, gravity, dt,
+      count < 0 ? p.count : count, row_of, SphereWallContact{walls.elements, p.position, p.radius});
 }
 
 } // namespace kdem

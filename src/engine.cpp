@@ -78,6 +78,7 @@ Engine::Engine(const SceneConfig& scene) : state_(std::make_unique<State>()) {
   s.dt = scene.time_step;
   s.gravity = to_vec3(scene.gravity);
   s.setup_materials();
+  s.setup_shapes();
   s.setup_domain();
   s.setup_walls();
   s.setup_outlets();
@@ -172,6 +173,15 @@ void Engine::State::setup_walls() {
   el.vertex_edge_start = upload<int>("wall_vertex_edge_start", table.vertex_edge_start);
   el.vertex_edge_direction =
       upload_rows<Vec3View>("wall_vertex_edge_direction", table.vertex_edge_direction);
+  el.triangle_normal = upload_rows<Vec3View>("wall_triangle_normal", table.triangle_normal);
+  el.edge_triangles =
+      upload_rows<DeviceView<int* [2]>>("wall_edge_triangles", table.edge_triangles);
+  el.vertex_corner = upload<int>("wall_vertex_corner", table.vertex_corner);
+  el.vertex_ring_start = upload<int>("wall_vertex_ring_start", table.vertex_ring_start);
+  std::vector<Vec3> ring;
+  for (const auto& p : table.vertex_ring)
+    ring.push_back(Vec3{p[0], p[1], p[2]});
+  el.vertex_ring = upload<Vec3>("wall_vertex_ring", ring);
   std::vector<WallMotion> device_motions;
   for (const WallMotionData& m : motions) {
     WallMotion d;
@@ -208,6 +218,7 @@ void Engine::State::setup_sources() {
     SourceState& st = sources[k];
     st.rng.seed(src.seed);
     st.material = material_index(src.material);
+    st.shape = source_shape[k];
     st.next_insertion = src.start;
     if (src.rate > 0)
       continue;
@@ -222,7 +233,7 @@ void Engine::State::setup_sources() {
       throw std::runtime_error(msg.str());
     }
     st.inserted = std::int64_t(seeds.size());
-    append_seeds(seeds, st.material);
+    append_seeds(seeds, st.material, st.shape);
   }
 }
 
@@ -237,16 +248,18 @@ Obstacles Engine::State::current_obstacles() const {
   return obstacles;
 }
 
-void Engine::State::append_seeds(const std::vector<ParticleSeed>& seeds, int material) {
+void Engine::State::append_seeds(const std::vector<ParticleSeed>& seeds, int material, int shape) {
   std::vector<ParticleInit> inits;
   inits.reserve(seeds.size());
   for (const ParticleSeed& seed : seeds) {
     ParticleInit p;
     p.position = seed.position;
     p.velocity = seed.velocity;
+    p.angular_velocity = seed.angular_velocity;
     p.orientation = seed.orientation;
     p.radius = seed.radius;
     p.material = material;
+    p.shape = shape;
     inits.push_back(p);
   }
   append_particles(inits);
@@ -269,8 +282,11 @@ void Engine::State::append_particles(const std::vector<ParticleInit>& added) {
   copy_particle_rows(fresh, grown, fresh.count, old_count);
   particles = grown;
   for (const ParticleInit& p : added) {
-    largest_radius = std::max(largest_radius, p.radius);
-    smallest_radius = std::min(smallest_radius, p.radius);
+    const double radius =
+        p.shape == sphere_shape ? p.radius : template_bounding_radius[p.shape - 1];
+    largest_radius = std::max(largest_radius, radius);
+    smallest_radius = std::min(smallest_radius, radius);
+    has_superquadrics = has_superquadrics || p.shape != sphere_shape;
   }
   needs_rebuild = true;
 }
@@ -287,10 +303,13 @@ ParticleViews Engine::State::upload_new_particles(const std::vector<ParticleInit
   auto mass = Kokkos::create_mirror_view(p.mass);
   auto inertia = Kokkos::create_mirror_view(p.inertia);
   auto material = Kokkos::create_mirror_view(p.material);
+  auto shape = Kokkos::create_mirror_view(p.shape);
   auto id = Kokkos::create_mirror_view(p.id);
   for (int i = 0; i < p.count; ++i) {
     const ParticleInit& a = added[i];
-    if (!(a.radius > 0))
+    if (a.shape < 0 || a.shape > int(superquadric_templates.size()))
+      throw std::runtime_error("particle shape id out of range");
+    if (a.shape == sphere_shape && !(a.radius > 0))
       throw std::runtime_error("particle radius must be positive");
     if (a.material < 0 || a.material >= int(scene.materials.size()))
       throw std::runtime_error("particle material index out of range");
@@ -298,11 +317,22 @@ ParticleViews Engine::State::upload_new_particles(const std::vector<ParticleInit
       x(i, c) = a.position[c], v(i, c) = a.velocity[c], w(i, c) = a.angular_velocity[c];
     for (int c = 0; c < 4; ++c)
       q(i, c) = a.orientation[c];
-    radius(i) = a.radius;
-    mass(i) = scene.materials[a.material].density * sphere_volume(a.radius);
-    for (int c = 0; c < 3; ++c)
-      inertia(i, c) = sphere_inertia(mass(i), a.radius);
+    const double density = scene.materials[a.material].density;
+    if (a.shape == sphere_shape) {
+      radius(i) = a.radius;
+      mass(i) = density * sphere_volume(a.radius);
+      for (int c = 0; c < 3; ++c)
+        inertia(i, c) = sphere_inertia(mass(i), a.radius);
+    } else {
+      const int k = a.shape - 1;
+      radius(i) = template_bounding_radius[k];
+      mass(i) = density * template_volume[k];
+      inertia(i, 0) = density * template_inertia_per_density[k].x;
+      inertia(i, 1) = density * template_inertia_per_density[k].y;
+      inertia(i, 2) = density * template_inertia_per_density[k].z;
+    }
     material(i) = a.material;
+    shape(i) = a.shape;
     id(i) = next_id + i;
   }
   next_id += p.count;
@@ -314,6 +344,7 @@ ParticleViews Engine::State::upload_new_particles(const std::vector<ParticleInit
   Kokkos::deep_copy(p.mass, mass);
   Kokkos::deep_copy(p.inertia, inertia);
   Kokkos::deep_copy(p.material, material);
+  Kokkos::deep_copy(p.shape, shape);
   Kokkos::deep_copy(p.id, id);
   return p;
 }
@@ -362,7 +393,7 @@ void Engine::State::rebuild_lists() {
     cell_size = std::max(hi[0] - lo[0], 1e-3);
   const CellGrid grid = make_cell_grid(lo, hi, cell_size, 8'000'000);
   const CellBins bins = sort_particles_by_cell(particles, grid);
-  PairList fresh_pairs = build_pair_list(particles, bins, list_skin);
+  PairList fresh_pairs = build_pair_list(particles, bins, list_skin, has_superquadrics);
   if (pairs.pair_count > 0)
     transfer_pair_history(fresh_pairs, pairs, old_rows, particles.id);
   pairs = fresh_pairs;
@@ -372,20 +403,38 @@ void Engine::State::rebuild_lists() {
   wall_contacts = fresh_walls;
   remember_build_positions(particles);
   ids_at_build = particles.id;
+  classify_families();
   last_build_time = time;
   needs_rebuild = false;
   ++list_builds;
 }
 
-void Engine::State::compute_forces() {
-  if (rolling) {
-    apply_gravity_and_wall_forces<true>(particles, walls, wall_contacts, coefficients, gravity, dt);
-    compute_sphere_pair_forces<true>(particles, pairs, coefficients, dt);
-  } else {
-    apply_gravity_and_wall_forces<false>(particles, walls, wall_contacts, coefficients, gravity,
-                                         dt);
-    compute_sphere_pair_forces<false>(particles, pairs, coefficients, dt);
+template <bool Rolling> void Engine::State::compute_forces_of_families() {
+  if (!families.mixed) {
+    apply_gravity_and_wall_forces<Rolling>(particles, walls, wall_contacts, coefficients, gravity,
+                                           dt);
+    compute_sphere_pair_forces<Rolling>(particles, pairs, coefficients, dt);
+    return;
   }
+  apply_gravity_and_wall_forces<Rolling>(particles, walls, wall_contacts, coefficients, gravity, dt,
+                                         families.sphere_count, ListedRows{families.spheres});
+  apply_gravity_and_superquadric_wall_forces<Rolling>(
+      particles, shapes, walls, wall_contacts, coefficients, superquadric_settings, gravity, dt,
+      families.superquadric_count, ListedRows{families.superquadrics});
+  compute_sphere_pair_forces<Rolling>(particles, pairs, coefficients, dt,
+                                      families.sphere_pair_count,
+                                      ListedRows{families.sphere_pairs});
+  compute_sphere_superquadric_forces<Rolling>(particles, shapes, pairs, families, coefficients,
+                                              superquadric_settings, narrow_phase, dt);
+  compute_superquadric_pair_forces<Rolling>(particles, shapes, pairs, families, coefficients,
+                                            superquadric_settings, narrow_phase, dt);
+}
+
+void Engine::State::compute_forces() {
+  if (rolling)
+    compute_forces_of_families<true>();
+  else
+    compute_forces_of_families<false>();
   gather_pair_forces(particles, pairs);
 }
 
@@ -410,7 +459,7 @@ void Engine::State::insert_due_particles() {
     st.owed -= double(seeds.size());
     st.inserted += std::int64_t(seeds.size());
     st.next_insertion += src.interval;
-    append_seeds(seeds, st.material);
+    append_seeds(seeds, st.material, st.shape);
   }
 }
 
@@ -435,13 +484,19 @@ void Engine::step() {
 }
 
 void Engine::State::step() {
-  kick_and_drift(particles, dt);
+  if (has_superquadrics)
+    kick_and_drift_rigid(particles, dt);
+  else
+    kick_and_drift(particles, dt);
   time = double(step_count + 1) * dt;
   insert_due_particles();
   if ((step_count + 1) % outlet_check_interval == 0)
     remove_discharged_particles();
   compute_forces_at_current_state();
-  kick(particles, dt);
+  if (has_superquadrics)
+    kick_rigid(particles, dt);
+  else
+    kick(particles, dt);
   ++step_count;
 }
 
@@ -512,7 +567,23 @@ ParticleSnapshot Engine::State::make_snapshot() const {
   snap.shape = flatten_to_host(p.shape, p.count);
   snap.material = flatten_to_host(p.material, p.count);
   snap.id = flatten_to_host(p.id, p.count);
+  if (!superquadric_templates.empty())
+    add_shapes_to_snapshot(snap);
   return snap;
+}
+
+void Engine::State::add_shapes_to_snapshot(ParticleSnapshot& snap) const {
+  snap.half_axes.resize(3 * snap.size());
+  snap.blockiness.resize(2 * snap.size());
+  for (std::size_t i = 0; i < snap.size(); ++i) {
+    SuperquadricShape shape =
+        make_superquadric(snap.radius[i], snap.radius[i], snap.radius[i], 2, 2);
+    if (snap.shape[i] != sphere_shape)
+      shape = superquadric_templates[snap.shape[i] - 1];
+    snap.half_axes[3 * i] = shape.a, snap.half_axes[3 * i + 1] = shape.b;
+    snap.half_axes[3 * i + 2] = shape.c;
+    snap.blockiness[2 * i] = shape.n1, snap.blockiness[2 * i + 1] = shape.n2;
+  }
 }
 
 ParticleSnapshot Engine::snapshot() const {
@@ -549,7 +620,9 @@ std::vector<WallSurface> Engine::wall_surfaces() const {
 TimeStepAdvice Engine::time_step_advice() const {
   const State& s = *state_;
   TimeStepAdvice advice;
-  const double r = s.smallest_radius < 1e300 ? s.smallest_radius : s.largest_radius;
+  double r = s.smallest_radius < 1e300 ? s.smallest_radius : s.largest_radius;
+  for (double volume : s.template_volume) // a superquadric's radius here is its bounding radius
+    r = std::min(r, std::cbrt(3 * volume / (4 * pi)));
   if (!(r > 0))
     return advice;
   double height = s.domain_max[2] - s.domain_min[2];

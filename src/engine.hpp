@@ -17,8 +17,17 @@ struct ParticleInit {
   Vec3d velocity{0, 0, 0};
   Vec3d angular_velocity{0, 0, 0};
   std::array<double, 4> orientation{1, 0, 0, 0};
-  double radius = 0;
+  double radius = 0; // spheres; a superquadric's bounding radius comes from its shape
   int material = 0;
+  int shape = 0; // 0: sphere; k > 0: the k-th entry of the scene's shapes
+};
+
+// Totals of the superquadric narrow phase since the start of the run (or the restart).
+struct NarrowPhaseTotals {
+  std::int64_t evaluations = 0;
+  std::int64_t iterations = 0;
+  std::int64_t fallbacks = 0; // converged only through the fallback
+  std::int64_t failures = 0;  // not converged: the pair had no contact that step
 };
 
 struct Diagnostics {
@@ -65,6 +74,8 @@ public:
   TimeStepAdvice time_step_advice() const;
 
   Diagnostics diagnostics() const;
+  NarrowPhaseTotals narrow_phase_totals() const;
+  int shape_id(const std::string& shape_name) const; // for add_particles
   ParticleSnapshot snapshot() const;
   std::vector<WallSurface> wall_surfaces() const;
 

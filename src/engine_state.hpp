@@ -7,6 +7,8 @@
 #include "../kernels/binning.hpp"
 #include "../kernels/diagnostics.hpp"
 #include "../kernels/pair_list.hpp"
+#include "../kernels/superquadric_pairs.hpp"
+#include "../kernels/superquadric_walls.hpp"
 #include "../kernels/walls.hpp"
 #include "engine.hpp"
 #include "generate.hpp"
@@ -14,9 +16,13 @@
 
 namespace kdem {
 
+// Shape id of the named entry of scene.shapes (k + 1 for entry k); throws for unknown names.
+int shape_id_of(const SceneConfig& scene, const std::string& name);
+
 struct SourceState {
   std::mt19937_64 rng;
   int material = 0;
+  int shape = 0;
   std::int64_t inserted = 0;
   double next_insertion = 0; // s
   double owed = 0;           // particles due but not yet placed
@@ -35,6 +41,18 @@ struct Engine::State {
 
   bool rolling = false;
   CoefficientTable coefficients;
+  // Shape templates: host copies (index k = superquadric template k, particle shape id k + 1)
+  // and the device table; per source, the shape id its particles get.
+  std::vector<SuperquadricShape> superquadric_templates;
+  std::vector<double> template_volume;            // m^3
+  std::vector<Vec3> template_inertia_per_density; // m^5, principal, body frame
+  std::vector<double> template_bounding_radius;   // m
+  std::vector<int> source_shape;
+  ShapeTable shapes;
+  bool has_superquadrics = false;
+  FamilyLists families;
+  SuperquadricContactSettings superquadric_settings;
+  NarrowPhaseCounters narrow_phase;
   ParticleViews particles;
   std::int64_t next_id = 0;
   PairList pairs;
@@ -56,6 +74,8 @@ struct Engine::State {
   std::int64_t discharged_count = 0;
 
   void setup_materials();
+  void setup_shapes();
+  void classify_families();
   void setup_domain();
   void setup_walls();
   void setup_outlets();
@@ -63,7 +83,7 @@ struct Engine::State {
   int material_index(const std::string& name) const;
 
   Obstacles current_obstacles() const;
-  void append_seeds(const std::vector<ParticleSeed>& seeds, int material);
+  void append_seeds(const std::vector<ParticleSeed>& seeds, int material, int shape);
   void append_particles(const std::vector<ParticleInit>& added);
   ParticleViews upload_new_particles(const std::vector<ParticleInit>& added);
 
@@ -71,12 +91,14 @@ struct Engine::State {
   double wall_travel_since_build() const;
   bool lists_are_stale() const;
   void rebuild_lists();
+  template <bool Rolling> void compute_forces_of_families();
   void compute_forces();
   void compute_forces_at_current_state();
   void insert_due_particles();
   void remove_discharged_particles();
   void step();
   ParticleSnapshot make_snapshot() const;
+  void add_shapes_to_snapshot(ParticleSnapshot& snap) const;
 };
 
 } // namespace kdem

@@ -493,6 +493,8 @@ private:
     ParticleSeed seed;
     seed.position = centre;
     seed.velocity = source_.velocity;
+    seed.angular_velocity = source_.angular_velocity;
+    seed.orientation = source_.orientation;
     if (source_.random_orientation)
       seed.orientation = draw_uniform_quaternion(rng_);
     seed.radius = radius;
@@ -528,7 +530,7 @@ std::vector<double> draw_radii_for_volume(const ParticleSourceConfig& source, st
   double drawn_volume = 0;
   while (drawn_volume < target_volume && static_cast<std::int64_t>(radii.size()) < max_new) {
     radii.push_back(draw_radius(source.sizes, rng));
-    drawn_volume += sphere_volume(radii.back());
+    drawn_volume += source.particle_volume_ratio * sphere_volume(radii.back());
   }
   std::sort(radii.begin(), radii.end(), [](double a, double b) { return a > b; });
   return radii;

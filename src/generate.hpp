@@ -11,6 +11,7 @@ namespace kdem {
 struct ParticleSeed {
   Vec3d position{0, 0, 0};
   Vec3d velocity{0, 0, 0};
+  Vec3d angular_velocity{0, 0, 0};
   std::array<double, 4> orientation{1, 0, 0, 0}; // unit quaternion (w, x, y, z)
   double radius = 0;
 };

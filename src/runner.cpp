@@ -94,7 +94,8 @@ class OutputWriter {
 public:
   OutputWriter(const fs::path& directory, const SceneConfig& scene, double dt)
       : directory_(directory), particles_pvd_(directory, "particles"),
-        walls_pvd_(directory, "walls"), series_(directory / "series.csv", series_columns),
+        surfaces_pvd_(directory, "shapes"), walls_pvd_(directory, "walls"),
+        series_(directory / "series.csv", series_columns),
         frame_every_(steps_per(scene.output.frame_interval, dt, 0)),
         series_every_(steps_per(scene.output.series_interval, dt, 100)),
         checkpoint_every_(steps_per(scene.output.checkpoint_interval, dt, 0)) {
@@ -132,8 +133,14 @@ private:
   void write_frame(const Engine& engine) {
     const std::int64_t step = engine.step_count();
     const std::string particle_file = "frames/" + numbered("particles", step, ".vtu");
-    write_particles_vtu(directory_ / particle_file, engine.snapshot());
+    const ParticleSnapshot snapshot = engine.snapshot();
+    write_particles_vtu(directory_ / particle_file, snapshot);
     particles_pvd_.add(engine.time(), particle_file);
+    if (!snapshot.half_axes.empty()) {
+      const std::string surface_file = "frames/" + numbered("shapes", step, ".vtp");
+      write_particle_surfaces_vtp(directory_ / surface_file, snapshot);
+      surfaces_pvd_.add(engine.time(), surface_file);
+    }
     const std::vector<WallSurface> walls = engine.wall_surfaces();
     for (std::size_t w = 0; w < walls.size(); ++w) {
       const std::string wall_file = "frames/" + numbered("wall" + std::to_string(w), step, ".vtp");
@@ -160,7 +167,7 @@ private:
   }
 
   fs::path directory_;
-  PvdSeries particles_pvd_, walls_pvd_;
+  PvdSeries particles_pvd_, surfaces_pvd_, walls_pvd_;
   SeriesCsv series_;
   std::int64_t frame_every_, series_every_, checkpoint_every_;
   Diagnostics last_;
@@ -179,7 +186,8 @@ RunSummary summarise(const Engine& engine, const OutputWriter& output, std::int6
   summary.particles = d.particles;
   summary.steps = steps;
   summary.contacts = d.pair_contacts + d.wall_contacts;
-  summary.narrow_phase_failures = 0; // spheres have a closed-form narrow phase
+  const NarrowPhaseTotals narrow = engine.narrow_phase_totals(); // superquadric contacts only
+  summary.narrow_phase_failures = narrow.failures;
   summary.wall_seconds = seconds;
   summary.particle_steps_per_second = seconds > 0 ? particle_steps / seconds : 0;
   summary.largest_overlap_ratio = output.largest_overlap_seen();
@@ -191,6 +199,11 @@ RunSummary summarise(const Engine& engine, const OutputWriter& output, std::int6
   summary.extra.push_back({"time_step", engine.time_step()});
   summary.extra.push_back({"list_builds", double(d.list_builds)});
   summary.extra.push_back({"discharged_count", double(d.discharged_count)});
+  summary.extra.push_back({"narrow_phase_evaluations", double(narrow.evaluations)});
+  summary.extra.push_back({"narrow_phase_fallbacks", double(narrow.fallbacks)});
+  summary.extra.push_back(
+      {"narrow_phase_mean_iterations",
+       narrow.evaluations > 0 ? double(narrow.iterations) / double(narrow.evaluations) : 0.0});
   return summary;
 }
 

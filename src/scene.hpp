@@ -54,15 +54,37 @@ struct RegionConfig {
   double height = 0;
 };
 
+// A particle shape template other than a sphere: a superquadric (book Eq. 2.1) with semi-axes
+// a, b, c along its body x, y, z and blockiness n1 (profile along z), n2 (xy cross-section).
+struct ShapeConfig {
+  std::string name;
+  Vec3d half_axes{0, 0, 0}; // m
+  double n1 = 2, n2 = 2;
+};
+
+// Controls of the superquadric narrow phase and of its contact radius.
+struct SuperquadricContactConfig {
+  double tolerance = 0;       // Newton tolerance; 0: the engine's default
+  int max_iterations = 0;     // Newton iteration cap; 0: the engine's default
+  double curvature_limit = 2; // R* from curvature is kept within [1/limit, limit] x R*_volume
+};
+
 struct ParticleSourceConfig {
   std::string name;
   std::string material;
-  SizeDistributionConfig sizes;
+  std::string shape;            // name of a ShapeConfig; empty: spheres sized by `sizes`
+  SizeDistributionConfig sizes; // for a shaped source: monodisperse, radius = smallest semi-axis
+                                // as loaded; the engine sets it to the bounding radius
+  double particle_volume_ratio = 1; // particle volume / volume of the placed sphere (the
+                                    // bounding sphere of a shaped particle), set by the engine
   RegionConfig region;
   std::int64_t count = 0;     // particles to place; 0 when volume_fraction is used
   double volume_fraction = 0; // target solid fraction of the region; 0 when count is used
   bool random_orientation = true;
-  Vec3d velocity{0, 0, 0}; // initial velocity, m/s
+  std::array<double, 4> orientation{1, 0, 0, 0}; // unit quaternion (w, x, y, z) of every
+                                                 // particle when random_orientation is false
+  Vec3d velocity{0, 0, 0};                       // initial velocity, m/s
+  Vec3d angular_velocity{0, 0, 0};               // initial angular velocity, rad/s, world frame
   std::uint64_t seed = 1;
   // Insertion over time ("rain"): when rate > 0, particles are inserted at `rate` per second
   // from `start` on, in batches every `interval` seconds, until `count` are in.
@@ -132,6 +154,8 @@ struct SceneConfig {
   Vec3d domain_min{0, 0, 0}, domain_max{0, 0, 0}; // else derived from walls and regions
   std::vector<MaterialConfig> materials;
   std::vector<InteractionConfig> interactions;
+  std::vector<ShapeConfig> shapes;
+  SuperquadricContactConfig superquadric_contact;
   std::vector<ParticleSourceConfig> sources;
   std::vector<WallConfig> walls;
   std::vector<OutletConfig> outlets;

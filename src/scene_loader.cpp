@@ -663,19 +663,127 @@ void read_insertion_timing(const Mapping& map, ParticleSourceConfig& source) {
     source.interval = positive(*value_found, "seconds");
 }
 
+// ---- shapes -----------------------------------------------------------------------------------
+
+// n >= 2 keeps the Hessian of the shape function finite on the surface; beyond 20 the corners
+// are sharper than the narrow phase is validated for.
+constexpr double smallest_blockiness = 2, largest_blockiness = 20;
+
+ShapeConfig read_shape(const Value& value, UniqueNames& names) {
+  const Mapping map(value, {"name", "superquadric"});
+  ShapeConfig shape;
+  shape.name = unique_name(map.get("name"), names);
+  const Mapping sq(map.get("superquadric"), {"half_axes", "blockiness"});
+  const Value axes = sq.get("half_axes");
+  shape.half_axes = vector3(axes, "semi-axes a, b, c in metres");
+  for (double axis : shape.half_axes)
+    if (!(axis > 0))
+      axes.expected("three positive semi-axes a, b, c in metres");
+  const Value blockiness = sq.get("blockiness");
+  const std::vector<double> exponents =
+      number_list(blockiness, "a sequence [n1, n2] of two blockiness exponents",
+                  "a blockiness exponent in [2, 20]",
+                  [](double n) { return n >= smallest_blockiness && n <= largest_blockiness; });
+  if (exponents.size() != 2)
+    blockiness.expected("a sequence [n1, n2] of two blockiness exponents");
+  shape.n1 = exponents[0];
+  shape.n2 = exponents[1];
+  return shape;
+}
+
+std::vector<ShapeConfig> read_shapes(const Value& list) {
+  std::vector<ShapeConfig> shapes;
+  UniqueNames names("shapes");
+  for_each_item(list, "a sequence of shapes", true,
+                [&](const Value& item) { shapes.push_back(read_shape(item, names)); });
+  return shapes;
+}
+
+KeyList shape_names(const std::vector<ShapeConfig>& shapes) {
+  KeyList names;
+  for (const auto& shape : shapes)
+    names.push_back(shape.name);
+  return names;
+}
+
+const ShapeConfig& shape_named(const Value& value, const std::vector<ShapeConfig>& shapes) {
+  const std::string expectation =
+      shapes.empty()
+          ? "the name of a shape defined under shapes (none is defined)"
+          : "the name of a shape defined under shapes (" + join(shape_names(shapes)) + ")";
+  const std::string name = text(value, expectation);
+  for (const auto& shape : shapes)
+    if (shape.name == name)
+      return shape;
+  value.expected(expectation);
+}
+
+SuperquadricContactConfig read_superquadric_contact(const Value& value) {
+  const Mapping map(value, {"tolerance", "max_iterations", "curvature_limit"});
+  SuperquadricContactConfig config;
+  if (auto value_found = map.find("tolerance"))
+    config.tolerance = number_where(*value_found, "a Newton tolerance in (0, 1e-2]",
+                                    [](double t) { return t > 0 && t <= 1e-2; });
+  if (auto value_found = map.find("max_iterations"))
+    config.max_iterations = int(whole_number(*value_found, 1));
+  if (auto value_found = map.find("curvature_limit"))
+    config.curvature_limit =
+        number_where(*value_found, "a factor >= 1", [](double f) { return f >= 1; });
+  return config;
+}
+
+// A fixed `orientation` and random orientations exclude each other; a fixed one is normalised.
+void read_orientation(const Mapping& map, ParticleSourceConfig& source) {
+  const auto random = map.find("random_orientation");
+  if (random)
+    source.random_orientation = boolean(*random);
+  const auto fixed = map.find("orientation");
+  if (!fixed)
+    return;
+  if (random && source.random_orientation)
+    fixed->expected("no orientation, or random_orientation: false", "random_orientation is true");
+  const std::string expectation = "a quaternion [w, x, y, z] of non-zero length";
+  const std::vector<double> q =
+      number_list(*fixed, expectation, "a number", [](double x) { return std::isfinite(x); });
+  const double length =
+      q.size() == 4 ? std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]) : 0;
+  if (!(length > 0))
+    fixed->expected(expectation);
+  for (int k = 0; k < 4; ++k)
+    source.orientation[k] = q[k] / length;
+  source.random_orientation = false;
+}
+
+// A shaped source places one template; its `sizes` say the smallest semi-axis (for the default
+// skin) while the engine sizes the bounding spheres.
+SizeDistributionConfig sizes_of_shape(const ShapeConfig& shape) {
+  SizeDistributionConfig sizes;
+  sizes.kind = SizeDistributionConfig::Kind::Monodisperse;
+  sizes.radius = *std::min_element(shape.half_axes.begin(), shape.half_axes.end());
+  return sizes;
+}
+
 ParticleSourceConfig read_source(const Value& value, const SceneConfig& scene, UniqueNames& names) {
-  const Mapping map(value, {"name", "material", "size", "region", "count", "volume_fraction",
-                            "random_orientation", "velocity", "seed", "rate", "start", "interval"});
+  const Mapping map(value, {"name", "material", "size", "shape", "region", "count",
+                            "volume_fraction", "random_orientation", "orientation", "velocity",
+                            "angular_velocity", "seed", "rate", "start", "interval"});
   ParticleSourceConfig source;
   source.name = unique_name(map.get("name"), names);
   source.material = material_named(map.get("material"), scene.materials).name;
-  source.sizes = read_sizes(map.get("size"));
+  if (exactly_one_key(map, {"size", "shape"}) == "size") {
+    source.sizes = read_sizes(map.get("size"));
+  } else {
+    const ShapeConfig& shape = shape_named(map.get("shape"), scene.shapes);
+    source.shape = shape.name;
+    source.sizes = sizes_of_shape(shape);
+  }
   const Value region_value = map.get("region");
   source.region = read_region(region_value);
   check_region_in_domain(region_value, source.region, scene);
   read_amount(map, source);
-  if (auto value_found = map.find("random_orientation"))
-    source.random_orientation = boolean(*value_found);
+  read_orientation(map, source);
+  if (auto value_found = map.find("angular_velocity"))
+    source.angular_velocity = vector3(*value_found, "in rad/s");
   if (auto value_found = map.find("velocity"))
     source.velocity = vector3(*value_found, "in m/s");
   if (auto value_found = map.find("seed"))
@@ -852,8 +960,11 @@ double default_skin(const SceneConfig& scene) {
   return default_skin_per_radius * smallest;
 }
 
-const KeyList scene_keys{"time_step",    "duration",  "gravity", "skin",    "domain", "materials",
-                         "interactions", "particles", "walls",   "outlets", "output"};
+const KeyList scene_keys{"time_step",    "duration", "gravity",
+                         "skin",         "domain",   "materials",
+                         "interactions", "shapes",   "superquadric_contact",
+                         "particles",    "walls",    "outlets",
+                         "output"};
 
 SceneConfig read_scene(const Value& root) {
   const Mapping map(root, scene_keys);
@@ -868,6 +979,10 @@ SceneConfig read_scene(const Value& root) {
   scene.materials = read_materials(map.get("materials"));
   if (auto value_found = map.find("interactions"))
     scene.interactions = read_interactions(*value_found, scene.materials);
+  if (auto value_found = map.find("shapes"))
+    scene.shapes = read_shapes(*value_found);
+  if (auto value_found = map.find("superquadric_contact"))
+    scene.superquadric_contact = read_superquadric_contact(*value_found);
   read_bodies(map, scene);
   if (auto value_found = map.find("output"))
     scene.output = read_output(*value_found);

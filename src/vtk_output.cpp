@@ -75,6 +75,53 @@ void check_particle_lengths(const fs::path& path, const ParticleSnapshot& snapsh
   check_length(path, "shape", snapshot.shape.size(), 1, count, "particle");
   check_length(path, "material", snapshot.material.size(), 1, count, "particle");
   check_length(path, "id", snapshot.id.size(), 1, count, "particle");
+  if (!snapshot.half_axes.empty() || !snapshot.blockiness.empty()) {
+    check_length(path, "half_axes", snapshot.half_axes.size(), 3, count, "particle");
+    check_length(path, "blockiness", snapshot.blockiness.size(), 2, count, "particle");
+  }
+}
+
+// sgn(t) |t|^e: the signed power of the superquadric's parametric surface.
+double signed_power(double t, double exponent) {
+  return std::copysign(std::pow(std::abs(t), exponent), t);
+}
+
+// Points of one particle's surface, x = a c1^e1 c2^e2, y = b c1^e1 s2^e2, z = c s1^e1 with
+// e1 = 2/n1, e2 = 2/n2, over latitude (poles included) and longitude, posed in the world.
+void append_surface_points(const ParticleSnapshot& s, std::size_t i, int resolution,
+                           std::vector<double>& points) {
+  const double pi = 3.14159265358979323846;
+  const double a = s.half_axes[3 * i], b = s.half_axes[3 * i + 1], c = s.half_axes[3 * i + 2];
+  const double e1 = 2.0 / s.blockiness[2 * i], e2 = 2.0 / s.blockiness[2 * i + 1];
+  const double qw = s.quaternion[4 * i], qx = s.quaternion[4 * i + 1], qy = s.quaternion[4 * i + 2],
+               qz = s.quaternion[4 * i + 3];
+  const int latitudes = resolution / 2;
+  for (int la = 0; la <= latitudes; ++la) {
+    const double eta = -0.5 * pi + pi * la / latitudes;
+    for (int lo = 0; lo < resolution; ++lo) {
+      const double omega = 2 * pi * lo / resolution;
+      const double x = a * signed_power(std::cos(eta), e1) * signed_power(std::cos(omega), e2);
+      const double y = b * signed_power(std::cos(eta), e1) * signed_power(std::sin(omega), e2);
+      const double z = c * signed_power(std::sin(eta), e1);
+      // v' = v + 2w (u x v) + 2 u x (u x v), u = (qx, qy, qz)
+      const double tx = 2 * (qy * z - qz * y), ty = 2 * (qz * x - qx * z),
+                   tz = 2 * (qx * y - qy * x);
+      points.push_back(s.position[3 * i] + x + qw * tx + (qy * tz - qz * ty));
+      points.push_back(s.position[3 * i + 1] + y + qw * ty + (qz * tx - qx * tz));
+      points.push_back(s.position[3 * i + 2] + z + qw * tz + (qx * ty - qy * tx));
+    }
+  }
+}
+
+// Two triangles per quad of the latitude-longitude grid of one particle's points.
+void append_surface_triangles(vtkIdType first, int resolution, std::vector<vtkIdType>& triangles) {
+  const int latitudes = resolution / 2;
+  auto index = [&](int la, int lo) { return first + la * resolution + (lo % resolution); };
+  for (int la = 0; la < latitudes; ++la)
+    for (int lo = 0; lo < resolution; ++lo) {
+      triangles.insert(triangles.end(), {index(la, lo), index(la, lo + 1), index(la + 1, lo + 1)});
+      triangles.insert(triangles.end(), {index(la, lo), index(la + 1, lo + 1), index(la + 1, lo)});
+    }
 }
 
 template <class VtkArray, class Value>
@@ -195,9 +242,42 @@ void write_particles_vtu(const fs::path& path, const ParticleSnapshot& snapshot)
   point_data->AddArray(make_array<vtkIntArray>("shape", 1, snapshot.shape));
   point_data->AddArray(make_array<vtkIntArray>("material", 1, snapshot.material));
   point_data->AddArray(make_array<vtkTypeInt64Array>("id", 1, snapshot.id));
+  if (!snapshot.half_axes.empty()) {
+    point_data->AddArray(make_array<vtkDoubleArray>("half_axes", 3, snapshot.half_axes));
+    point_data->AddArray(make_array<vtkDoubleArray>("blockiness", 2, snapshot.blockiness));
+  }
   add_time_field_data(grid, snapshot.time, snapshot.step);
 
   write_with_xml_writer(vtkSmartPointer<vtkXMLUnstructuredGridWriter>::New(), grid, path);
+}
+
+void write_particle_surfaces_vtp(const fs::path& path, const ParticleSnapshot& snapshot,
+                                 int resolution) {
+  check_particle_lengths(path, snapshot);
+  if (snapshot.size() > 0 && snapshot.half_axes.empty())
+    throw write_error(path, "the snapshot has no particle shapes");
+  if (resolution < 4)
+    throw write_error(path, "surface resolution " + std::to_string(resolution) + " is below 4");
+  resolution += resolution % 2;
+  const std::size_t points_per_particle = std::size_t(resolution) * (resolution / 2 + 1);
+  std::vector<double> points;
+  std::vector<vtkIdType> triangles;
+  std::vector<std::int64_t> point_id;
+  std::vector<int> point_shape;
+  points.reserve(3 * points_per_particle * snapshot.size());
+  for (std::size_t i = 0; i < snapshot.size(); ++i) {
+    append_surface_triangles(vtkIdType(i * points_per_particle), resolution, triangles);
+    append_surface_points(snapshot, i, resolution, points);
+    point_id.insert(point_id.end(), points_per_particle, snapshot.id[i]);
+    point_shape.insert(point_shape.end(), points_per_particle, snapshot.shape[i]);
+  }
+  auto surface = vtkSmartPointer<vtkPolyData>::New();
+  surface->SetPoints(make_points(points));
+  surface->SetPolys(make_uniform_cells(3, triangles));
+  surface->GetPointData()->AddArray(make_array<vtkTypeInt64Array>("id", 1, point_id));
+  surface->GetPointData()->AddArray(make_array<vtkIntArray>("shape", 1, point_shape));
+  add_time_field_data(surface, snapshot.time, snapshot.step);
+  write_with_xml_writer(vtkSmartPointer<vtkXMLPolyDataWriter>::New(), surface, path);
 }
 
 void write_wall_vtp(const fs::path& path, const WallSurface& wall) {

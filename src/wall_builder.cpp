@@ -54,6 +54,7 @@ struct SurfaceBuilder {
 };
 
 void add_plane(WallElementTable& t, int wall, const Vec3d& origin, const Vec3d& normal) {
+  t.triangle_normal.push_back({0, 0, 0});
   t.kind.push_back(plane_kind);
   t.wall.push_back(wall);
   t.geometry.push_back({origin[0], origin[1], origin[2], normal[0], normal[1], normal[2], 0, 0, 0});
@@ -93,6 +94,7 @@ void add_box(WallElementTable& t, SurfaceBuilder& s, int wall, const WallConfig&
 
 void add_cylinder(WallElementTable& t, SurfaceBuilder& s, int wall, const WallConfig& c) {
   t.kind.push_back(cylinder_kind);
+  t.triangle_normal.push_back({0, 0, 0});
   t.wall.push_back(wall);
   const Vec3d& b = c.base_center;
   const Vec3d& a = c.axis_direction;
@@ -108,6 +110,90 @@ void add_cylinder(WallElementTable& t, SurfaceBuilder& s, int wall, const WallCo
                  add(scaled(u, c.radius * std::cos(phi)), scaled(v, c.radius * std::sin(phi))));
     };
     s.add_quad(rim(k, 0), rim(k + 1, 0), rim(k + 1, c.length), rim(k, c.length));
+  }
+}
+
+int find_root(std::vector<int>& parent, int k) {
+  while (parent[k] != k)
+    k = parent[k] = parent[parent[k]];
+  return k;
+}
+
+double mesh_extent(const TriangleMesh& mesh) {
+  double extent = 0;
+  for (const auto& p : mesh.points)
+    extent = std::max(extent, std::sqrt(dot(sub(p, mesh.points[0]), sub(p, mesh.points[0]))));
+  return extent;
+}
+
+// Planar patches: triangles joined across an edge whose normals agree to 1e-12 and whose
+// vertices lie in each other's plane to 1e-9 of the mesh size. Each triangle stores its patch's
+// normal (that of the patch's lowest triangle, negated where its own points the other way), so
+// that coplanar triangles compare the same numbers.
+std::vector<Vec3d> patch_normals(const TriangleMesh& mesh, const MeshTopology& topo,
+                                 std::vector<int>& patch) {
+  const std::size_t n = mesh.triangles.size();
+  std::vector<Vec3d> own(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto& tri = mesh.triangles[k];
+    own[k] = unit(cross(sub(mesh.points[tri[1]], mesh.points[tri[0]]),
+                        sub(mesh.points[tri[2]], mesh.points[tri[0]])));
+  }
+  const double distance_tolerance = 1e-9 * mesh_extent(mesh);
+  patch.resize(n);
+  for (std::size_t k = 0; k < n; ++k)
+    patch[k] = int(k);
+  for (const auto& adjacent : topo.edge_triangles) {
+    if (adjacent.size() != 2)
+      continue;
+    const int t0 = adjacent[0], t1 = adjacent[1];
+    if (std::abs(dot(own[t0], own[t1])) < 1 - 1e-12)
+      continue;
+    bool coplanar = true;
+    for (int v : mesh.triangles[t1])
+      coplanar = coplanar && std::abs(dot(sub(mesh.points[v], mesh.points[mesh.triangles[t0][0]]),
+                                          own[t0])) <= distance_tolerance;
+    if (coplanar) {
+      const int r0 = find_root(patch, t0), r1 = find_root(patch, t1);
+      patch[std::max(r0, r1)] = std::min(r0, r1);
+    }
+  }
+  std::vector<Vec3d> stored(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    patch[k] = find_root(patch, int(k));
+    const Vec3d& reference = own[patch[k]];
+    stored[k] = dot(own[k], reference) >= 0 ? reference : scaled(reference, -1.0);
+  }
+  return stored;
+}
+
+// Superquadric-mesh topology: stored normals, the triangles of each edge, corner vertices and
+// the ring of neighbours of each vertex.
+void add_superquadric_topology(WallElementTable& t, const TriangleMesh& mesh,
+                               const MeshTopology& topo, int first_element) {
+  std::vector<int> patch;
+  for (const Vec3d& normal : patch_normals(mesh, topo, patch))
+    t.triangle_normal.push_back(normal);
+  std::vector<int> corner(mesh.points.size(), 0);
+  std::vector<std::vector<int>> ring(mesh.points.size());
+  for (std::size_t e = 0; e < topo.edge_vertices.size(); ++e) {
+    const auto& adjacent = topo.edge_triangles[e];
+    t.edge_triangles.push_back(
+        {first_element + adjacent[0], adjacent.size() > 1 ? first_element + adjacent[1] : -1});
+    const int v0 = topo.edge_vertices[e][0], v1 = topo.edge_vertices[e][1];
+    ring[v0].push_back(v1);
+    ring[v1].push_back(v0);
+    if (adjacent.size() < 2)
+      corner[v0] = corner[v1] = 1; // the mesh boundary
+  }
+  for (std::size_t v = 0; v < mesh.points.size(); ++v) {
+    for (int triangle : topo.vertex_triangles[v])
+      if (patch[triangle] != patch[topo.vertex_triangles[v].front()])
+        corner[v] = 1;
+    t.vertex_corner.push_back(corner[v]);
+    for (int neighbour : ring[v])
+      t.vertex_ring.push_back(mesh.points[neighbour]);
+    t.vertex_ring_start.push_back(int(t.vertex_ring.size()));
   }
 }
 
@@ -155,12 +241,10 @@ void add_mesh(WallElementTable& t, SurfaceBuilder& s, int wall, const WallConfig
     t.vertex_triangle_start.push_back(int(t.vertex_triangle.size()));
     t.vertex_position.push_back(mesh.points[v]);
   }
+  add_superquadric_topology(t, mesh, topo, first_element);
   // Features are told apart to 1e-9 of the mesh size: far below any overlap that matters, far
   // above the rounding of the tests that compare them.
-  double extent = 0;
-  for (const auto& p : mesh.points)
-    extent = std::max(extent, std::sqrt(dot(sub(p, mesh.points[0]), sub(p, mesh.points[0]))));
-  t.feature_tolerance = std::max(t.feature_tolerance, 1e-9 * extent);
+  t.feature_tolerance = std::max(t.feature_tolerance, 1e-9 * mesh_extent(mesh));
   for (const auto& p : mesh.points)
     s.add_point(p);
   for (const auto& tri : mesh.triangles)

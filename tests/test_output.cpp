@@ -391,6 +391,78 @@ TEST_F(OutputTest, VtuIntoMissingDirectoryThrowsAndLeavesNoFile) {
   EXPECT_TRUE(file_names_in(directory).empty());
 }
 
+// The three particles as a sphere, a cube-like and a cylinder-like superquadric.
+ParticleSnapshot three_shaped_particles() {
+  ParticleSnapshot snapshot = three_particles();
+  snapshot.half_axes = {0.01, 0.01, 0.01, 0.02, 0.01, 0.005, 0.01, 0.01, 0.03};
+  snapshot.blockiness = {2, 2, 8, 8, 8, 2};
+  return snapshot;
+}
+
+// Shape function of particle i of a snapshot at a world point (book Eq. 2.1, body frame).
+double shape_function_at(const ParticleSnapshot& s, std::size_t i, const double world[3]) {
+  double d[3] = {world[0] - s.position[3 * i], world[1] - s.position[3 * i + 1],
+                 world[2] - s.position[3 * i + 2]};
+  // body = conj(q) d: v' = v + 2w (u x v) + 2 u x (u x v) with u = -(qx, qy, qz)
+  const double w = s.quaternion[4 * i], ux = -s.quaternion[4 * i + 1],
+               uy = -s.quaternion[4 * i + 2], uz = -s.quaternion[4 * i + 3];
+  const double tx = 2 * (uy * d[2] - uz * d[1]), ty = 2 * (uz * d[0] - ux * d[2]),
+               tz = 2 * (ux * d[1] - uy * d[0]);
+  const double x = d[0] + w * tx + (uy * tz - uz * ty), y = d[1] + w * ty + (uz * tx - ux * tz),
+               z = d[2] + w * tz + (ux * ty - uy * tx);
+  const double a = s.half_axes[3 * i], b = s.half_axes[3 * i + 1], c = s.half_axes[3 * i + 2];
+  const double n1 = s.blockiness[2 * i], n2 = s.blockiness[2 * i + 1];
+  return std::pow(std::pow(std::abs(x / a), n2) + std::pow(std::abs(y / b), n2), n1 / n2) +
+         std::pow(std::abs(z / c), n1) - 1;
+}
+
+TEST_F(OutputTest, ShapedFrameCarriesSemiAxesAndBlockiness) {
+  const fs::path path = directory / "shaped.vtu";
+  write_particles_vtu(path, three_shaped_particles());
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  vtkPointData* point_data = reader->GetOutput()->GetPointData();
+  ASSERT_NE(point_data->GetArray("half_axes"), nullptr);
+  ASSERT_NE(point_data->GetArray("blockiness"), nullptr);
+  EXPECT_EQ(point_data->GetArray("half_axes")->GetComponent(1, 2), 0.005);
+  EXPECT_EQ(point_data->GetArray("blockiness")->GetComponent(2, 0), 8);
+  EXPECT_EQ(point_data->GetArray("blockiness")->GetComponent(2, 1), 2);
+}
+
+TEST_F(OutputTest, ParticleSurfacesLieOnTheTrueShapes) {
+  const ParticleSnapshot snapshot = three_shaped_particles();
+  const fs::path path = directory / "shapes.vtp";
+  const int resolution = 16;
+  write_particle_surfaces_vtp(path, snapshot, resolution);
+  vtkNew<vtkXMLPolyDataReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  vtkPolyData* surface = reader->GetOutput();
+  const vtkIdType per_particle = resolution * (resolution / 2 + 1);
+  ASSERT_EQ(surface->GetNumberOfPoints(), 3 * per_particle);
+  EXPECT_EQ(surface->GetNumberOfPolys(), 3 * 2 * resolution * (resolution / 2));
+  vtkDataArray* id = surface->GetPointData()->GetArray("id");
+  ASSERT_NE(id, nullptr);
+  double worst = 0;
+  for (vtkIdType k = 0; k < surface->GetNumberOfPoints(); ++k) {
+    const std::size_t particle = std::size_t(k / per_particle);
+    EXPECT_EQ(static_cast<std::int64_t>(id->GetComponent(k, 0)), snapshot.id[particle]);
+    double point[3];
+    surface->GetPoint(k, point);
+    worst = std::max(worst, std::abs(shape_function_at(snapshot, particle, point)));
+  }
+  // Points are exact on the surface up to rounding of the pose and the powers.
+  EXPECT_LT(worst, 1e-9);
+}
+
+TEST_F(OutputTest, SurfacesNeedShapes) {
+  const fs::path path = directory / "shapes.vtp";
+  expect_runtime_error_mentioning([&] { write_particle_surfaces_vtp(path, three_particles()); },
+                                  {path.string(), "no particle shapes"});
+  EXPECT_TRUE(file_names_in(directory).empty());
+}
+
 TEST_F(OutputTest, WallSurfaceReadsBackWithVtk) {
   const fs::path path = directory / "floor.vtp";
   write_wall_vtp(path, unit_square_wall());

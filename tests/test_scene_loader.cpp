@@ -483,7 +483,8 @@ TEST(SceneSyntaxErrors, TopLevelMustBeAMapping) {
 TEST(SceneKeyErrors, UnknownTopLevelKeyListsTheAllowedKeysAndSuggestsOne) {
   EXPECT_TRUE(fails_with(minimal_scene_plus("durration: 1\n"), 14, "durration",
                          "expected one of the keys time_step, duration, gravity, skin, domain, "
-                         "materials, interactions, particles, walls, outlets, output, got the key "
+                         "materials, interactions, shapes, superquadric_contact, particles, walls, "
+                         "outlets, output, got the key "
                          "\"durration\" (did you mean \"duration\"?)"));
 }
 
@@ -518,8 +519,8 @@ TEST(SceneKeyErrors, MissingMaterialKey) {
 }
 
 TEST(SceneKeyErrors, MissingSourceSize) {
-  EXPECT_TRUE(fails_with(minimal_scene_with(11, "    seed: 3"), 9, "particles[0].size",
-                         "expected a mapping with keys distribution, radius"));
+  EXPECT_TRUE(fails_with(minimal_scene_with(11, "    seed: 3"), 9, "particles[0]",
+                         "expected exactly one of the keys size, shape, got none"));
 }
 
 TEST(SceneKeyErrors, MissingMaterialsList) {
@@ -845,6 +846,111 @@ TEST(SceneErrorFields, CarryLineColumnAndKeyPath) {
     EXPECT_EQ(error.column(), 14);
     EXPECT_EQ(error.key_path(), "materials[0].density");
   }
+}
+
+// ---- superquadric shapes ----------------------------------------------------------------------
+
+const std::string cube_shape = "shapes:\n"                                // 14
+                               "  - name: cube\n"                         // 15
+                               "    superquadric:\n"                      // 16
+                               "      half_axes: [0.001, 0.002, 0.003]\n" // 17
+                               "      blockiness: [8, 6]\n";              // 18
+
+TEST(SceneShapes, ShapedSourceTakesTheTemplate) {
+  const SceneConfig scene =
+      load_text(minimal_scene_with(11, "    shape: cube") + cube_shape +
+                "superquadric_contact: {tolerance: 1.0e-8, max_iterations: 25, "
+                "curvature_limit: 3}\n");
+  ASSERT_EQ(scene.shapes.size(), 1u);
+  EXPECT_EQ(scene.shapes[0].name, "cube");
+  EXPECT_EQ(scene.shapes[0].half_axes, (kdem::Vec3d{0.001, 0.002, 0.003}));
+  EXPECT_EQ(scene.shapes[0].n1, 8);
+  EXPECT_EQ(scene.shapes[0].n2, 6);
+  EXPECT_EQ(scene.sources[0].shape, "cube");
+  // The default skin follows the smallest semi-axis of a shaped source.
+  EXPECT_DOUBLE_EQ(scene.skin, kdem::default_skin_per_radius * 0.001);
+  EXPECT_EQ(scene.superquadric_contact.tolerance, 1e-8);
+  EXPECT_EQ(scene.superquadric_contact.max_iterations, 25);
+  EXPECT_EQ(scene.superquadric_contact.curvature_limit, 3);
+}
+
+TEST(SceneShapes, SpheresHaveNoShape) {
+  const SceneConfig scene = load_text(minimal_scene());
+  EXPECT_TRUE(scene.shapes.empty());
+  EXPECT_TRUE(scene.sources[0].shape.empty());
+  EXPECT_EQ(scene.superquadric_contact.curvature_limit, 2);
+}
+
+TEST(SceneShapes, UnknownShapeNamesTheDefinedOnes) {
+  EXPECT_TRUE(fails_with(minimal_scene_with(11, "    shape: sphere") + cube_shape, 11,
+                         "particles[0].shape",
+                         "expected the name of a shape defined under shapes (cube)"));
+}
+
+TEST(SceneShapes, ShapeWithoutShapesList) {
+  EXPECT_TRUE(fails_with(minimal_scene_with(11, "    shape: cube"), 11, "particles[0].shape",
+                         "(none is defined)"));
+}
+
+TEST(SceneShapes, SizeAndShapeTogether) {
+  EXPECT_TRUE(fails_with(minimal_scene_with(13, "    shape: cube") + cube_shape, 13, "particles[0]",
+                         "expected exactly one of the keys size, shape, got size and "
+                         "shape"));
+}
+
+TEST(SceneShapes, BlockinessOutOfRange) {
+  std::string text = cube_shape;
+  text.replace(text.find("[8, 6]"), 6, "[8, 1.5]");
+  EXPECT_TRUE(fails_with(minimal_scene_plus(text), 18, "shapes[0].superquadric.blockiness[1]",
+                         "expected a blockiness exponent in [2, 20], got \"1.5\""));
+}
+
+TEST(SceneShapes, BlockinessNeedsTwoExponents) {
+  std::string text = cube_shape;
+  text.replace(text.find("[8, 6]"), 6, "[8]");
+  EXPECT_TRUE(fails_with(minimal_scene_plus(text), 18, "shapes[0].superquadric.blockiness",
+                         "expected a sequence [n1, n2] of two blockiness exponents"));
+}
+
+TEST(SceneShapes, NonPositiveSemiAxis) {
+  std::string text = cube_shape;
+  text.replace(text.find("0.002"), 5, "0");
+  EXPECT_TRUE(fails_with(minimal_scene_plus(text), 17, "shapes[0].superquadric.half_axes",
+                         "expected three positive semi-axes a, b, c in metres"));
+}
+
+TEST(SceneShapes, DuplicateShapeName) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus(cube_shape + "  - name: cube\n    superquadric: "
+                                                         "{half_axes: [1, 1, 1], blockiness: [2, "
+                                                         "2]}\n"),
+                         19, "shapes[1].name", "a name not used by another entry of shapes"));
+}
+
+TEST(SceneShapes, ToleranceOutOfRange) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("superquadric_contact: {tolerance: 0.5}\n"), 14,
+                         "superquadric_contact.tolerance",
+                         "expected a Newton tolerance in (0, 1e-2], got \"0.5\""));
+}
+
+TEST(SceneOrientation, FixedOrientationIsNormalisedAndTurnsRandomOff) {
+  const SceneConfig scene = load_text(
+      minimal_scene_plus("    orientation: [2, 0, 0, 2]\n    angular_velocity: [0, 3, 0.5]\n"));
+  EXPECT_FALSE(scene.sources[0].random_orientation);
+  EXPECT_DOUBLE_EQ(scene.sources[0].orientation[0], std::sqrt(0.5));
+  EXPECT_DOUBLE_EQ(scene.sources[0].orientation[3], std::sqrt(0.5));
+  EXPECT_EQ(scene.sources[0].angular_velocity, (kdem::Vec3d{0, 3, 0.5}));
+}
+
+TEST(SceneOrientation, FixedAndRandomTogether) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("    random_orientation: true\n"
+                                            "    orientation: [1, 0, 0, 0]\n"),
+                         15, "particles[0].orientation", "random_orientation is true"));
+}
+
+TEST(SceneOrientation, ZeroQuaternion) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("    orientation: [0, 0, 0, 0]\n"), 14,
+                         "particles[0].orientation",
+                         "expected a quaternion [w, x, y, z] of non-zero length"));
 }
 
 } // namespace

@@ -1,0 +1,216 @@
+#pragma once
+// Contact forces of pairs with superquadrics, one statically typed kernel per pair type:
+//   superquadric-superquadric: exact bounding-sphere test, then the oriented-box test (its
+//     last separating axis is tried first), survivors compacted with a scan, then the
+//     midway-point Newton narrow phase on the compacted list only, so that no lane idles in
+//     the expensive kernel for pairs that the cheap tests rule out;
+//   sphere-superquadric: the closest-point narrow phase, on all candidate pairs of that type.
+// Forces are stored per pair like sphere pairs and gathered by gather_pair_forces.
+#include "../shapes/superquadric_contact.hpp"
+#include "../shapes/superquadric_properties.hpp"
+#include "pair_forces.hpp"
+#include "shape_table.hpp"
+
+namespace kdem {
+
+// Newton controls and the contact-radius rule of the superquadric kernels.
+struct SuperquadricContactSettings {
+  NarrowPhaseControls newton;
+  double curvature_limit = 2;
+};
+
+// Counts of one step's superquadric narrow-phase evaluations (integers: the sums do not
+// depend on the order of the atomic additions).
+struct NarrowPhaseCounters {
+  DeviceView<std::int64_t[4]> values; // evaluations, iterations, fallbacks, failures
+  NarrowPhaseCounters() : values("narrow_phase_counters") {}
+};
+
+enum NarrowPhaseCounter : int {
+  counted_evaluations = 0,
+  counted_iterations = 1,
+  counted_fallbacks = 2,
+  counted_failures = 3
+};
+
+KOKKOS_INLINE_FUNCTION void count_evaluation(const DeviceView<std::int64_t[4]>& counters,
+                                             const NarrowPhaseResult& r) {
+  Kokkos::atomic_add(&counters(counted_evaluations), std::int64_t(1));
+  Kokkos::atomic_add(&counters(counted_iterations), std::int64_t(r.iterations));
+  if (r.status == 1)
+    Kokkos::atomic_add(&counters(counted_fallbacks), std::int64_t(1));
+  if (r.status == 2)
+    Kokkos::atomic_add(&counters(counted_failures), std::int64_t(1));
+}
+
+// Hertz radius from the surface curvatures at the contact (the "mean curvature" variant of
+// Podlozhnyuk et al., Comput. Part. Mech. 4 (2017) 101): R* = 1 / (kappa_i + kappa_j), kept
+// within [1/limit, limit] x the R* of the volume-equivalent spheres. Flat faces have
+// kappa -> 0 and would make the contact infinitely stiff; sharp corners kappa -> infinity and
+// would make it infinitely soft; the limits keep the stiffness, and so the stable time step,
+// within a factor sqrt(limit) of the equivalent spheres'.
+KOKKOS_INLINE_FUNCTION double curvature_radius(double curvature_i, double curvature_j,
+                                               double equivalent_radius, double limit) {
+  const double curvature = curvature_i + curvature_j;
+  const double lowest = equivalent_radius / limit, highest = equivalent_radius * limit;
+  if (!(curvature > 0))
+    return highest;
+  return math::clamp(1.0 / curvature, lowest, highest);
+}
+
+KOKKOS_INLINE_FUNCTION double equivalent_radius_of(const ShapeTable& shapes, const ParticleViews& p,
+                                                   int i) {
+  const int shape = p.shape(i);
+  return is_superquadric(shape) ? shapes.equivalent_radius(superquadric_template(shape))
+                                : p.radius(i);
+}
+
+KOKKOS_INLINE_FUNCTION double pair_equivalent_radius(const ShapeTable& shapes,
+                                                     const ParticleViews& p, int i, int j) {
+  const double ri = equivalent_radius_of(shapes, p, i), rj = equivalent_radius_of(shapes, p, j);
+  return ri * rj / (ri + rj);
+}
+
+// Superquadric pairs that pass the exact bounding-sphere and the oriented-box tests, as rows
+// of the pair list; the pairs that fail have their contact cleared and their warm start dropped.
+inline IndexView superquadric_pairs_in_reach(const ParticleViews& p, const ShapeTable& shapes,
+                                             PairList& list, const FamilyLists& families,
+                                             int& survivors) {
+  const int candidates = families.superquadric_pair_count;
+  IndexView passes("superquadric_pair_passes", candidates);
+  auto rows = families.superquadric_pairs;
+  auto pair_i = list.pair_i, pair_j = list.pair_j;
+  auto axis = list.separating_axis;
+  auto multiplier = list.midway_multiplier;
+  const PairSlots slots(list);
+  Kokkos::parallel_for(
+      "kdem::superquadric_pair_prefilter", RangePolicy(0, candidates), KOKKOS_LAMBDA(int m) {
+        const int k = rows(m), i = pair_i(k), j = pair_j(k);
+        const double reach = p.radius(i) + p.radius(j);
+        bool near = norm2(load3(p.position, i) - load3(p.position, j)) < reach * reach;
+        if (near) {
+          int hint = axis(k);
+          near = bounding_boxes_overlap(posed_particle(shapes, p, i), posed_particle(shapes, p, j),
+                                        hint);
+          axis(k) = hint;
+        }
+        passes(m) = near ? 1 : 0;
+        if (!near) {
+          slots.clear(k);
+          multiplier(k) = 0;
+        }
+      });
+  IndexView survivor_rows = kept_indices(passes, survivors);
+  IndexView pairs_left = uninitialized<IndexView>("superquadric_pairs_left", survivors);
+  Kokkos::parallel_for(
+      "kdem::superquadric_pair_compact", RangePolicy(0, survivors),
+      KOKKOS_LAMBDA(int s) { pairs_left(s) = rows(survivor_rows(s)); });
+  return pairs_left;
+}
+
+// What the superquadric pair kernels share: the warm starts they read and write, the counters,
+// and how a narrow-phase result becomes the pair's force.
+template <bool RollingResistance> struct SuperquadricPairKernel {
+  ParticleViews p;
+  ShapeTable shapes;
+  PairSlots slots;
+  Vec3View point;
+  ScalarView multiplier;
+  DeviceView<std::int64_t[4]> counts;
+  CoefficientTable table;
+  NarrowPhaseControls controls;
+  double limit = 2;
+  double dt = 0;
+
+  SuperquadricPairKernel(const ParticleViews& p_, const ShapeTable& shapes_, const PairList& list,
+                         const CoefficientTable& table_,
+                         const SuperquadricContactSettings& settings,
+                         const NarrowPhaseCounters& counters, double dt_)
+      : p(p_), shapes(shapes_), slots(list), point(list.midway_point),
+        multiplier(list.midway_multiplier), counts(counters.values), table(table_),
+        controls(settings.newton), limit(settings.curvature_limit), dt(dt_) {}
+
+  KOKKOS_INLINE_FUNCTION MidwayState warm_start(int k) const {
+    MidwayState previous;
+    previous.point = load3(point, k);
+    previous.multiplier = multiplier(k);
+    return previous;
+  }
+
+  // Counts the evaluation, keeps its warm start and applies (or clears) the contact; `normal`
+  // is the result's normal turned to point from j towards i of the stored pair.
+  KOKKOS_INLINE_FUNCTION void record(int k, int i, int j, const NarrowPhaseResult& r,
+                                     double normal_sign) const {
+    count_evaluation(counts, r);
+    store3(point, k, r.state.point);
+    multiplier(k) = r.state.multiplier;
+    if (!r.geometry.touching) {
+      slots.clear(k);
+      return;
+    }
+    ContactGeometry geometry = r.geometry;
+    geometry.normal = normal_sign * geometry.normal;
+    const double radius = curvature_radius(r.curvature_i, r.curvature_j,
+                                           pair_equivalent_radius(shapes, p, i, j), limit);
+    slots.template apply<RollingResistance>(k, p, i, j, geometry, radius,
+                                            table(p.material(i), p.material(j)), dt);
+  }
+};
+
+template <bool RollingResistance>
+void compute_superquadric_pair_forces(const ParticleViews& p, const ShapeTable& shapes,
+                                      PairList& list, const FamilyLists& families,
+                                      const CoefficientTable& table,
+                                      const SuperquadricContactSettings& settings,
+                                      const NarrowPhaseCounters& counters, double dt) {
+  if (families.superquadric_pair_count == 0)
+    return;
+  int survivors = 0;
+  const IndexView rows = superquadric_pairs_in_reach(p, shapes, list, families, survivors);
+  auto pair_i = list.pair_i, pair_j = list.pair_j;
+  const SuperquadricPairKernel<RollingResistance> kernel(p, shapes, list, table, settings, counters,
+                                                         dt);
+  Kokkos::parallel_for(
+      "kdem::superquadric_pair_forces", RangePolicy(0, survivors), KOKKOS_LAMBDA(int s) {
+        const int k = rows(s), i = pair_i(k), j = pair_j(k);
+        const NarrowPhaseResult r = superquadric_pair_contact(
+            posed_particle(kernel.shapes, kernel.p, i), posed_particle(kernel.shapes, kernel.p, j),
+            kernel.warm_start(k), kernel.controls);
+        kernel.record(k, i, j, r, 1.0);
+      });
+}
+
+// The sphere is body i of the narrow phase; pairs stored with the superquadric first get the
+// geometry's normal reversed, so that it points from j towards i of the stored pair.
+template <bool RollingResistance>
+void compute_sphere_superquadric_forces(const ParticleViews& p, const ShapeTable& shapes,
+                                        PairList& list, const FamilyLists& families,
+                                        const CoefficientTable& table,
+                                        const SuperquadricContactSettings& settings,
+                                        const NarrowPhaseCounters& counters, double dt) {
+  if (families.mixed_pair_count == 0)
+    return;
+  auto rows = families.mixed_pairs;
+  auto pair_i = list.pair_i, pair_j = list.pair_j;
+  const SuperquadricPairKernel<RollingResistance> kernel(p, shapes, list, table, settings, counters,
+                                                         dt);
+  Kokkos::parallel_for(
+      "kdem::sphere_superquadric_forces", RangePolicy(0, families.mixed_pair_count),
+      KOKKOS_LAMBDA(int m) {
+        const int k = rows(m), i = pair_i(k), j = pair_j(k);
+        const bool sphere_first = !is_superquadric(p.shape(i));
+        const int sphere = sphere_first ? i : j, body = sphere_first ? j : i;
+        const double reach = p.radius(i) + p.radius(j);
+        if (norm2(load3(p.position, i) - load3(p.position, j)) >= reach * reach) {
+          kernel.slots.clear(k);
+          kernel.multiplier(k) = 0;
+          return;
+        }
+        const NarrowPhaseResult r = sphere_superquadric_contact(
+            load3(p.position, sphere), p.radius(sphere), posed_particle(shapes, p, body),
+            kernel.warm_start(k), kernel.controls);
+        kernel.record(k, i, j, r, sphere_first ? 1.0 : -1.0);
+      });
+}
+
+} // namespace kdem

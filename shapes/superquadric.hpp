@@ -1,0 +1,178 @@
+#pragma once
+// Superquadric shape function (Barr 1981; book Eq. 2.1) with its gradient and Hessian, in the
+// body frame (principal axes, centroid at the origin) and posed in the world frame:
+//   F(x, y, z) = (|x/a|^n2 + |y/b|^n2)^(n1/n2) + |z/c|^n1 - 1,   F < 0 inside.
+// n2 shapes the xy cross-section, n1 the profile along z; n1, n2 >= 2 (below 2 the Hessian is
+// singular on the surface). Everything here is host and device code.
+//
+// Conditioning: F and its derivatives are multiplied by 0.5^(max(n1, n2) - 2), as LIGGGHTS does
+// (Podlozhnyuk et al., Comput. Part. Mech. 4 (2017) 101). The zero set is unchanged; the factor
+// keeps |F| of order one a few semi-axes away from blocky shapes, where |x/a|^n is large.
+// Integer exponents (the common n = 2, 4, 8, ...) use repeated multiplication instead of pow.
+#include "mat3.hpp"
+
+namespace kdem {
+
+struct SuperquadricShape {
+  double a = 1, b = 1, c = 1; // m, semi-axes along body x, y, z
+  double n1 = 2, n2 = 2;      // blockiness: n1 along z, n2 in the xy cross-section
+  // Derived by make_superquadric; do not set by hand.
+  double inv_a = 1, inv_b = 1, inv_c = 1;
+  double exponent_ratio = 1; // p = n1 / n2
+  double conditioning = 1;   // 0.5^(max(n1, n2) - 2)
+  int n1_integer = 2;        // n1 when it is an integer, else -1
+  int n2_integer = 2;
+  int ratio_minus_two_integer = -1; // p - 2 when it is a non-negative integer, else -1
+  bool equal_exponents = true;      // n1 == n2: F separates into three powers
+};
+
+KOKKOS_INLINE_FUNCTION int integer_or_minus_one(double n) {
+  const double rounded = math::floor(n + 0.5);
+  return (n == rounded && rounded >= 0 && rounded < 64) ? int(rounded) : -1;
+}
+
+KOKKOS_INLINE_FUNCTION SuperquadricShape make_superquadric(double a, double b, double c, double n1,
+                                                           double n2) {
+  SuperquadricShape s;
+  s.a = a, s.b = b, s.c = c, s.n1 = n1, s.n2 = n2;
+  s.inv_a = 1.0 / a, s.inv_b = 1.0 / b, s.inv_c = 1.0 / c;
+  s.exponent_ratio = n1 / n2;
+  s.conditioning = math::pow(0.5, math::max(n1, n2) - 2.0);
+  s.n1_integer = integer_or_minus_one(n1);
+  s.n2_integer = integer_or_minus_one(n2);
+  s.ratio_minus_two_integer = integer_or_minus_one(s.exponent_ratio - 2.0);
+  s.equal_exponents = n1 == n2;
+  return s;
+}
+
+// t^k for t >= 0 and a small non-negative integer k, by squaring.
+KOKKOS_INLINE_FUNCTION double integer_power(double t, int k) {
+  double result = 1.0;
+  while (k > 0) {
+    if (k & 1)
+      result *= t;
+    t *= t;
+    k >>= 1;
+  }
+  return result;
+}
+
+// t^(n - 2) for t >= 0 and n >= 2; n_integer is n or -1 (see SuperquadricShape).
+KOKKOS_INLINE_FUNCTION double power_minus_two(double t, double n, int n_integer) {
+  if (n_integer >= 2)
+    return integer_power(t, n_integer - 2);
+  return t > 0 ? math::pow(t, n - 2.0) : 0.0;
+}
+
+KOKKOS_INLINE_FUNCTION double sign_of(double x) {
+  return x > 0 ? 1.0 : (x < 0 ? -1.0 : 0.0);
+}
+
+// Value, gradient and (optionally) Hessian of the conditioned shape function at one point.
+struct ShapeFunction {
+  double value = 0;
+  Vec3 gradient;
+  Mat3 hessian;
+};
+
+// Below this, S = |x/a|^n2 + |y/b|^n2 counts as zero (the body's z axis): the terms with negative
+// powers of S are multiplied by powers of |x/a|, |y/b| that vanish faster, and their limit is 0.
+constexpr double superquadric_axis_threshold = 1e-100;
+
+template <bool WithHessian = true>
+KOKKOS_INLINE_FUNCTION ShapeFunction superquadric_local(const SuperquadricShape& s, Vec3 p) {
+  const double u = math::fabs(p.x) * s.inv_a, v = math::fabs(p.y) * s.inv_b,
+               w = math::fabs(p.z) * s.inv_c;
+  const double su = sign_of(p.x), sv = sign_of(p.y), sw = sign_of(p.z);
+  const double n1 = s.n1, n2 = s.n2, k = s.conditioning;
+
+  const double u_m2 = power_minus_two(u, n2, s.n2_integer),
+               v_m2 = power_minus_two(v, n2, s.n2_integer);
+  const double u_m1 = u_m2 * u, v_m1 = v_m2 * v;
+  const double w_m2 = power_minus_two(w, n1, s.n1_integer), w_m1 = w_m2 * w;
+  const double section = u_m1 * u + v_m1 * v; // S
+
+  ShapeFunction f;
+  // S^(p-1) and S^(p-2) (the latter only where it is multiplied by (n1 - n2) != 0).
+  double s_p1 = 1, s_p2 = 0;
+  if (!s.equal_exponents) {
+    if (section > superquadric_axis_threshold) {
+      s_p2 = s.ratio_minus_two_integer >= 0 ? integer_power(section, s.ratio_minus_two_integer)
+                                            : math::pow(section, s.exponent_ratio - 2.0);
+      s_p1 = s_p2 * section;
+    } else {
+      s_p1 = 0; // p > 1 or the limit along the axis; see superquadric_axis_threshold
+    }
+  }
+  const double section_term = s.equal_exponents ? section : s_p1 * section;
+  f.value = k * (section_term + w_m1 * w - 1.0);
+  f.gradient = Vec3{k * n1 * s.inv_a * s_p1 * u_m1 * su, k * n1 * s.inv_b * s_p1 * v_m1 * sv,
+                    k * n1 * s.inv_c * w_m1 * sw};
+  if constexpr (WithHessian) {
+    const double cross = (n1 - n2) * s_p2;
+    f.hessian.m[0][0] = k * n1 * s.inv_a * s.inv_a * ((n2 - 1) * u_m2 * s_p1 + cross * u_m1 * u_m1);
+    f.hessian.m[1][1] = k * n1 * s.inv_b * s.inv_b * ((n2 - 1) * v_m2 * s_p1 + cross * v_m1 * v_m1);
+    f.hessian.m[0][1] = f.hessian.m[1][0] =
+        k * n1 * s.inv_a * s.inv_b * cross * su * sv * u_m1 * v_m1;
+    f.hessian.m[2][2] = k * n1 * (n1 - 1) * s.inv_c * s.inv_c * w_m2;
+  }
+  return f;
+}
+
+// A superquadric placed in the world: centre and body-to-world rotation.
+struct PosedSuperquadric {
+  SuperquadricShape shape;
+  Vec3 centre;
+  Mat3 rotation; // columns are the body axes in world coordinates
+
+  KOKKOS_INLINE_FUNCTION Vec3 to_local(Vec3 x) const { return transpose(rotation) * (x - centre); }
+  KOKKOS_INLINE_FUNCTION Vec3 to_world(Vec3 local) const { return centre + rotation * local; }
+  KOKKOS_INLINE_FUNCTION double value(Vec3 x) const {
+    return superquadric_local<false>(shape, to_local(x)).value;
+  }
+  // Value, world gradient and (optionally) world Hessian R H R^T.
+  template <bool WithHessian = true> KOKKOS_INLINE_FUNCTION ShapeFunction evaluate(Vec3 x) const {
+    ShapeFunction local = superquadric_local<WithHessian>(shape, to_local(x));
+    ShapeFunction world;
+    world.value = local.value;
+    world.gradient = rotation * local.gradient;
+    if constexpr (WithHessian)
+      world.hessian = rotate_tensor(rotation, local.hessian);
+    return world;
+  }
+};
+
+KOKKOS_INLINE_FUNCTION PosedSuperquadric pose_superquadric(const SuperquadricShape& shape,
+                                                           Vec3 centre, Quat orientation) {
+  return PosedSuperquadric{shape, centre, rotation_matrix(orientation)};
+}
+
+// Mean curvature of the level set through a point, from the gradient g and Hessian H of any
+// function with that level set (Goldman, CAGD 22 (2005) 632, Eq. 4.1):
+//   kappa_H = |g^T H g - |g|^2 tr H| / (2 |g|^3).
+// Invariant under scaling the function, so the conditioning factor does not matter.
+KOKKOS_INLINE_FUNCTION double mean_curvature(const ShapeFunction& f) {
+  const double g2 = norm2(f.gradient);
+  if (!(g2 > 0))
+    return 0;
+  const double gHg = dot(f.gradient, f.hessian * f.gradient);
+  return math::fabs(gHg - g2 * trace(f.hessian)) / (2.0 * g2 * math::sqrt(g2));
+}
+
+// Gaussian curvature of the level set (Goldman 2005, Eq. 4.2): g^T adj(H) g / |g|^4.
+KOKKOS_INLINE_FUNCTION double gaussian_curvature(const ShapeFunction& f) {
+  const double g2 = norm2(f.gradient);
+  if (!(g2 > 0))
+    return 0;
+  const Mat3& h = f.hessian;
+  Mat3 adj; // adjugate (transposed cofactor matrix) of the symmetric Hessian
+  adj.m[0][0] = h.m[1][1] * h.m[2][2] - h.m[1][2] * h.m[2][1];
+  adj.m[1][1] = h.m[0][0] * h.m[2][2] - h.m[0][2] * h.m[2][0];
+  adj.m[2][2] = h.m[0][0] * h.m[1][1] - h.m[0][1] * h.m[1][0];
+  adj.m[0][1] = adj.m[1][0] = h.m[0][2] * h.m[2][1] - h.m[0][1] * h.m[2][2];
+  adj.m[0][2] = adj.m[2][0] = h.m[0][1] * h.m[1][2] - h.m[0][2] * h.m[1][1];
+  adj.m[1][2] = adj.m[2][1] = h.m[0][2] * h.m[1][0] - h.m[0][0] * h.m[1][2];
+  return dot(f.gradient, adj * f.gradient) / (g2 * g2);
+}
+
+} // namespace kdem
