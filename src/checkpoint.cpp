@@ -33,6 +33,18 @@ template <class View> void load_view(const Hdf5Reader& in, const std::string& na
   view = view_from_host<View>(name, values, columns);
 }
 
+// For readers of the file (pictures, analyses): shape id k > 0 is row k - 1 of these. Not read
+// back: the scene defines the templates.
+void write_shape_templates(Hdf5Writer& out, const std::vector<SuperquadricShape>& templates) {
+  std::vector<double> half_axes, blockiness;
+  for (const SuperquadricShape& t : templates) {
+    half_axes.insert(half_axes.end(), {t.a, t.b, t.c});
+    blockiness.insert(blockiness.end(), {t.n1, t.n2});
+  }
+  out.write("shapes/half_axes", half_axes, {hsize_t(templates.size()), 3});
+  out.write("shapes/blockiness", blockiness, {hsize_t(templates.size()), 2});
+}
+
 std::string rng_state(const std::mt19937_64& rng) {
   std::ostringstream text;
   text << rng;
@@ -71,6 +83,7 @@ void Engine::write_checkpoint(const std::string& path) const {
   for_each_particle_field([&](const char* name, auto member) {
     save_view(out, std::string("particles/") + name, s.particles.*member);
   });
+  write_shape_templates(out, s.superquadric_templates);
   save_view(out, "ids_at_build", s.ids_at_build);
   for_each_pair_list_field([&](const char* name, auto member) {
     save_view(out, std::string("pairs/") + name, s.pairs.*member);

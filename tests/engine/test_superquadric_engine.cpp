@@ -43,7 +43,6 @@ Quat row4(const std::vector<double>& values, int i) {
 
 // Body z turned onto world x: a quarter turn about y.
 const std::array<double, 4> z_along_x{std::sqrt(0.5), 0, std::sqrt(0.5), 0};
-const std::array<double, 4> identity{1, 0, 0, 0};
 
 // Runs until the two particles have separated after touching (or the step budget ends).
 void run_until_separated(Engine& engine, int max_steps) {
