@@ -426,19 +426,25 @@ superquadric_pair_contact(const PosedSuperquadric& i, const PosedSuperquadric& j
                           const MidwayState& previous, const NarrowPhaseControls& controls) {
   using namespace narrow_phase;
   const MidwayProblem problem = make_midway_problem(i, j, controls.tolerance);
-  Unknowns u = start_with_initial_multiplier(problem, sphere_midway_point(i, j));
-  MidwayProblem::Evaluation e = problem.evaluate(u);
-  if (previous.multiplier > 0) {
-    const Unknowns warm{previous.point, previous.multiplier};
-    const MidwayProblem::Evaluation we = problem.evaluate(warm);
-    if (we.finite && (!e.finite || we.merit < e.merit)) {
-      u = warm;
-      e = we;
-    }
-  }
+  // The midway point minimises the strictly convex max(F_i, F_j), so every start that converges
+  // finds the same point: a warm start is solved alone, and the sphere start is tried only
+  // without one or when Newton from it fails.
+  Unknowns u;
+  MidwayProblem::Evaluation e;
+  bool solved = false;
   int iterations = 0;
+  if (previous.multiplier > 0) {
+    u = Unknowns{previous.point, previous.multiplier};
+    e = problem.evaluate(u);
+    solved = newton_solve(problem, u, e, controls.max_iterations, iterations);
+  }
+  if (!solved) {
+    u = start_with_initial_multiplier(problem, sphere_midway_point(i, j));
+    e = problem.evaluate(u);
+    solved = newton_solve(problem, u, e, controls.max_iterations, iterations);
+  }
   int status = 0;
-  if (!newton_solve(problem, u, e, controls.max_iterations, iterations)) {
+  if (!solved) {
     status = 1;
     if (!controls.use_fallback || !homotopy_solve(problem, u, e, controls, iterations))
       return failed_result(iterations);
