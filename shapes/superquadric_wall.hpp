@@ -71,8 +71,25 @@ KOKKOS_INLINE_FUNCTION Vec3 superquadric_support_point(const SuperquadricShape& 
           sign_of(direction.z) * s.c * profile.second};
 }
 
+// Body-frame components of a direction below this fraction of its largest component are the
+// rounding of the rotation (a few 1e-16) and are set to zero: a flat face lying on a wall (the
+// direction along a body axis up to rounding) then gets its support point at the face's centre
+// rather than moved by (1e-16)^(1/(n - 1)) of the size (5e-3 for n = 8) towards an edge, which
+// would give the contact force a spurious lever arm.
+constexpr double rotation_rounding = 1e-14;
+
 KOKKOS_INLINE_FUNCTION Vec3 direction_to_local(const PosedSuperquadric& p, Vec3 world) {
-  return transpose(p.rotation) * world;
+  Vec3 local = transpose(p.rotation) * world;
+  const double largest =
+      math::max(math::fabs(local.x), math::max(math::fabs(local.y), math::fabs(local.z)));
+  const double noise = rotation_rounding * largest;
+  if (math::fabs(local.x) < noise)
+    local.x = 0;
+  if (math::fabs(local.y) < noise)
+    local.y = 0;
+  if (math::fabs(local.z) < noise)
+    local.z = 0;
+  return local;
 }
 
 // World-frame point of the particle furthest along the world direction.

@@ -257,6 +257,39 @@ TEST(SuperquadricWall, PlaneOverlapMatchesBruteForce) {
               worst_high, worst_surface);
 }
 
+// A flat face lying on a plane, in frames turned at random so that the rotations round: the
+// contact point stays at the face's centre (body frame: on the cylinder's mid-plane, under the
+// cube's centre), where symmetry puts it, instead of sliding towards an edge by the
+// (1e-16)^(1/(n - 1)) sensitivity of a blocky face's support point.
+TEST(SuperquadricWall, FlatFaceOnAPlaneTouchesAtTheFaceCentre) {
+  std::mt19937_64 rng(29);
+  const SuperquadricShape cylinder = make_superquadric(1e-3, 1e-3, 2e-3, 8, 2);
+  const SuperquadricShape cube = make_superquadric(1e-3, 1e-3, 1e-3, 8, 8);
+  const Quat lying = axis_angle(Vec3{1, 0, 0}, 0.5 * M_PI); // body z horizontal, y down
+  std::vector<PlaneCase> cases;
+  for (int k = 0; k < 200; ++k) {
+    const Quat frame = random_rotation(rng);
+    const SuperquadricShape& shape = k % 2 == 0 ? cylinder : cube;
+    const Quat orientation = frame * (k % 2 == 0 ? lying : Quat{1, 0, 0, 0});
+    const Vec3 normal = rotate(frame, Vec3{0, 0, 1});
+    const double height = 0.999e-3; // both reach 1e-3 below the centre: 1 um overlap
+    cases.push_back({pose(shape, height * normal, orientation), Vec3{}, normal});
+  }
+  const auto contacts = run_on_device<SuperquadricWallContact>(cases, PlaneContactOfCase{});
+  double worst = 0;
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    ASSERT_TRUE(contacts[k].geometry.touching) << k;
+    const Vec3 local = cases[k].particle.to_local(contacts[k].deepest_point);
+    // The cylinder's axis is body z; the cube's face is z = -c: the centre is x = y = 0.
+    const double off_centre = k % 2 == 0 ? std::fabs(local.z) : std::hypot(local.x, local.y);
+    worst = std::max(worst, off_centre / 1e-3);
+  }
+  // Rounding of the pose only (without the snapping of rotation noise: about 5e-3).
+  EXPECT_LT(worst, 1e-9);
+  std::printf("flat face on a plane: contact point off the face centre by %.2e of the size\n",
+              worst);
+}
+
 TEST(SuperquadricWall, PlaneCurvatureOfASphereIsItsInverseRadius) {
   const SuperquadricShape sphere = make_superquadric(0.25, 0.25, 0.25, 2, 2);
   std::vector<PlaneCase> cases;
