@@ -1,7 +1,8 @@
 #pragma once
 // Contact forces of pairs with superquadrics, one statically typed kernel per pair type:
 //   superquadric-superquadric: exact bounding-sphere test, then the oriented-box test (its
-//     last separating axis is tried first), survivors compacted with a scan, then the
+//     last separating axis is tried first; skipped for pairs that touched at the last step),
+//     survivors compacted with a scan, then the
 //     midway-point Newton narrow phase on the compacted list only, so that no lane idles in
 //     the expensive kernel for pairs that the cheap tests rule out;
 //   sphere-superquadric: the closest-point narrow phase, on all candidate pairs of that type.
@@ -82,13 +83,16 @@ inline IndexView superquadric_pairs_in_reach(const ParticleViews& p, const Shape
   auto pair_i = list.pair_i, pair_j = list.pair_j;
   auto axis = list.separating_axis;
   auto multiplier = list.midway_multiplier;
+  auto overlap = list.overlap;
   const PairSlots slots(list);
   Kokkos::parallel_for(
       "kdem::superquadric_pair_prefilter", RangePolicy(0, candidates), KOKKOS_LAMBDA(int m) {
         const int k = rows(m), i = pair_i(k), j = pair_j(k);
         const double reach = p.radius(i) + p.radius(j);
         bool near = norm2(load3(p.position, i) - load3(p.position, j)) < reach * reach;
-        if (near) {
+        // Pairs that touched at the last step almost surely still do: the box test is skipped
+        // for them (the book's suggestion, Sect. 2.2.1); the narrow phase decides.
+        if (near && overlap(k) == 0) {
           int hint = axis(k);
           near = bounding_boxes_overlap(posed_particle(shapes, p, i), posed_particle(shapes, p, j),
                                         hint);
