@@ -36,6 +36,9 @@ struct FamilyLists {
   IndexView sphere_pairs;       // both bodies spheres
   IndexView mixed_pairs;        // one sphere, one superquadric (either order)
   IndexView superquadric_pairs; // both bodies superquadrics
+  // Work space of each step's superquadric prefilter, sized here so that the step allocates
+  // nothing: a pass flag per superquadric pair, and the pairs that passed.
+  IndexView superquadric_pair_passes, superquadric_pairs_left;
 };
 
 // Rows k of [0, count) for which keep(k) holds, in ascending order (count, scan, fill).
@@ -75,6 +78,10 @@ inline FamilyLists sort_into_families(const ParticleViews& p, const PairList& pa
       n, f.superquadric_pair_count, "superquadric_pairs", KOKKOS_LAMBDA(int k) {
         return is_superquadric(shape(pair_i(k))) && is_superquadric(shape(pair_j(k)));
       });
+  f.superquadric_pair_passes =
+      uninitialized<IndexView>("superquadric_pair_passes", f.superquadric_pair_count);
+  f.superquadric_pairs_left =
+      uninitialized<IndexView>("superquadric_pairs_left", f.superquadric_pair_count);
   return f;
 }
 

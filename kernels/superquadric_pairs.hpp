@@ -78,7 +78,8 @@ inline IndexView superquadric_pairs_in_reach(const ParticleViews& p, const Shape
                                              PairList& list, const FamilyLists& families,
                                              int& survivors) {
   const int candidates = families.superquadric_pair_count;
-  IndexView passes("superquadric_pair_passes", candidates);
+  auto passes = families.superquadric_pair_passes;
+  auto pairs_left = families.superquadric_pairs_left;
   auto rows = families.superquadric_pairs;
   auto pair_i = list.pair_i, pair_j = list.pair_j;
   auto axis = list.separating_axis;
@@ -104,11 +105,17 @@ inline IndexView superquadric_pairs_in_reach(const ParticleViews& p, const Shape
           multiplier(k) = 0;
         }
       });
-  IndexView survivor_rows = kept_indices(passes, survivors);
-  IndexView pairs_left = uninitialized<IndexView>("superquadric_pairs_left", survivors);
-  Kokkos::parallel_for(
-      "kdem::superquadric_pair_compact", RangePolicy(0, survivors),
-      KOKKOS_LAMBDA(int s) { pairs_left(s) = rows(survivor_rows(s)); });
+  survivors = 0;
+  Kokkos::parallel_scan(
+      "kdem::superquadric_pair_compact", RangePolicy(0, candidates),
+      KOKKOS_LAMBDA(int m, int& running, bool final) {
+        if (passes(m) == 0)
+          return;
+        if (final)
+          pairs_left(running) = rows(m);
+        ++running;
+      },
+      survivors);
   return pairs_left;
 }
 

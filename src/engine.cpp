@@ -621,8 +621,8 @@ TimeStepAdvice Engine::time_step_advice() const {
   const State& s = *state_;
   TimeStepAdvice advice;
   double r = s.smallest_radius < 1e300 ? s.smallest_radius : s.largest_radius;
-  for (double volume : s.template_volume) // a superquadric's radius here is its bounding radius
-    r = std::min(r, std::cbrt(3 * volume / (4 * pi)));
+  for (double radius : s.template_equivalent_radius) // not the bounding radius of a superquadric
+    r = std::min(r, radius);
   if (!(r > 0))
     return advice;
   double height = s.domain_max[2] - s.domain_min[2];

@@ -47,6 +47,7 @@ struct Engine::State {
   std::vector<double> template_volume;            // m^3
   std::vector<Vec3> template_inertia_per_density; // m^5, principal, body frame
   std::vector<double> template_bounding_radius;   // m
+  std::vector<double> template_equivalent_radius; // m, of the sphere of equal volume
   std::vector<int> source_shape;
   ShapeTable shapes;
   bool has_superquadrics = false;

@@ -14,10 +14,6 @@ SuperquadricShape template_of(const ShapeConfig& config) {
                            config.n2);
 }
 
-double sphere_volume_of(double radius) {
-  return 4.0 / 3.0 * pi * radius * radius * radius;
-}
-
 } // namespace
 
 void Engine::State::setup_shapes() {
@@ -33,8 +29,9 @@ void Engine::State::setup_shapes() {
     template_volume.push_back(superquadric_volume(shape));
     template_inertia_per_density.push_back(superquadric_principal_inertia(shape, 1.0));
     template_bounding_radius.push_back(superquadric_bounding_radius(shape));
+    template_equivalent_radius.push_back(std::cbrt(3.0 * template_volume.back() / (4.0 * pi)));
     shape_mirror(k) = shape;
-    radius_mirror(k) = std::cbrt(3.0 * template_volume.back() / (4.0 * pi));
+    radius_mirror(k) = template_equivalent_radius.back();
   }
   Kokkos::deep_copy(shapes.superquadric, shape_mirror);
   Kokkos::deep_copy(shapes.equivalent_radius, radius_mirror);
@@ -47,7 +44,7 @@ void Engine::State::setup_shapes() {
       id = k + 1;
       source.sizes.kind = SizeDistributionConfig::Kind::Monodisperse;
       source.sizes.radius = template_bounding_radius[k];
-      source.particle_volume_ratio = template_volume[k] / sphere_volume_of(source.sizes.radius);
+      source.particle_volume_ratio = template_volume[k] / sphere_volume(source.sizes.radius);
       has_superquadrics = true;
     }
     source_shape.push_back(id);

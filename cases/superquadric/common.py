@@ -1,5 +1,6 @@
 """Helpers shared by the superquadric validation scripts: reading kdem output (series.csv and
-HDF5 checkpoints), quaternions, and the closed-form volume and inertia of a superquadric."""
+HDF5 checkpoints), quaternions, the closed-form volume and inertia of a superquadric, and
+writing a figure and its summary (each to a temporary name, then renamed)."""
 import csv
 import glob
 import math
@@ -122,3 +123,14 @@ def momenta(state, indices=None, origin=(0.0, 0.0, 0.0)):
 def body_angular_velocity(state, k):
     R = rotation_matrix(state["orientation"][k])
     return R.T @ state["angular_velocity"][k]
+
+
+def save_figure_and_summary(fig, png, summary_path, lines):
+    """The figure as PNG and the printed lines as text; no file is left half written."""
+    tmp = png + ".tmp.png"
+    fig.savefig(tmp, dpi=120)
+    os.replace(tmp, png)
+    tmp = summary_path + ".tmp"
+    with open(tmp, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    os.replace(tmp, summary_path)

@@ -137,10 +137,8 @@ def main():
     ax[1].set_ylabel("height (mm); dotted: core limits")
     ax[1].legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(png, dpi=120)
     out = os.path.dirname(os.path.abspath(sys.argv[2].split(":", 1)[1]))
-    with open(os.path.join(out, "summary.txt"), "w") as f:
-        f.write("\n".join(lines) + "\n")
+    common.save_figure_and_summary(fig, png, os.path.join(out, "summary.txt"), lines)
 
 
 if __name__ == "__main__":

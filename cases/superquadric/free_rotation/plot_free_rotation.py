@@ -103,9 +103,8 @@ def main():
     ax[1].set_ylabel("relative error")
     ax[1].legend()
     fig.tight_layout()
-    fig.savefig(png, dpi=120)
-    with open(os.path.join(os.path.dirname(os.path.abspath(run_dir)), "summary.txt"), "w") as f:
-        f.write("\n".join(lines) + "\n")
+    common.save_figure_and_summary(
+        fig, png, os.path.join(os.path.dirname(os.path.abspath(run_dir)), "summary.txt"), lines)
 
 
 if __name__ == "__main__":
