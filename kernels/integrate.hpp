@@ -59,6 +59,7 @@ KOKKOS_INLINE_FUNCTION Quat free_rotation(Quat q, Vec3 inertia, Vec3 momentum_wo
 
 // Rotation of a sphere: omega kicked by torque / I, orientation turned by omega dt.
 struct IsotropicRotation {
+  static constexpr bool bounds_turning = false; // spheres: no shape turns with them
   KOKKOS_INLINE_FUNCTION static Vec3 kicked(Quat, Vec3 inertia, Vec3 omega, Vec3 torque, double h) {
     return omega + (h / inertia.x) * torque;
   }
@@ -71,6 +72,7 @@ struct IsotropicRotation {
 
 // Rotation of a rigid body: angular momentum kicked by the torque, then the free rotation.
 struct RigidBodyRotation {
+  static constexpr bool bounds_turning = true; // keeps ParticleViews::turned_angle
   KOKKOS_INLINE_FUNCTION static Vec3 kicked(Quat q, Vec3 inertia, Vec3 omega, Vec3 torque,
                                             double h) {
     return angular_velocity_of(q, inertia, angular_momentum(q, inertia, omega) + h * torque);
@@ -83,7 +85,18 @@ struct RigidBodyRotation {
   }
 };
 
-// Half kick of velocities, then the drift of positions and orientations.
+// An upper bound on the angle of the rotation from orientation a to b, in [0, pi]: with
+// d = b a^-1, the angle is 2 atan(|vec d| / |w d|) <= 2 |vec d| / |w d|, without a
+// transcendental call.
+KOKKOS_INLINE_FUNCTION double rotation_angle_bound(Quat a, Quat b) {
+  const Quat d = b * Quat{a.w, -a.x, -a.y, -a.z};
+  const double sine = math::sqrt(d.x * d.x + d.y * d.y + d.z * d.z), cosine = math::fabs(d.w);
+  constexpr double pi = 3.14159265358979323846;
+  return 2.0 * sine < pi * cosine ? 2.0 * sine / cosine : pi;
+}
+
+// Half kick of velocities, then the drift of positions and orientations; rigid bodies also add
+// the angle they turned to turned_angle.
 template <class Rotation = IsotropicRotation>
 void kick_and_drift(const ParticleViews& p, double dt) {
   auto x = p.position, v = p.velocity, w = p.angular_velocity;
@@ -91,6 +104,7 @@ void kick_and_drift(const ParticleViews& p, double dt) {
   auto force = p.force, torque = p.torque;
   auto mass = p.mass;
   auto inertia = p.inertia;
+  auto turned = p.turned_angle;
   Kokkos::parallel_for(
       "kdem::kick_and_drift", RangePolicy(0, p.count), KOKKOS_LAMBDA(int i) {
         const Vec3 vi = load3(v, i) + (0.5 * dt / mass(i)) * load3(force, i);
@@ -98,7 +112,10 @@ void kick_and_drift(const ParticleViews& p, double dt) {
         store3(x, i, load3(x, i) + dt * vi);
         Quat qi = load_quat(q, i);
         Vec3 wi = load3(w, i);
+        const Quat before = qi;
         Rotation::kick_and_turn(qi, wi, load3(inertia, i), load3(torque, i), dt);
+        if constexpr (Rotation::bounds_turning)
+          turned(i) += rotation_angle_bound(before, qi);
         store_quat(q, i, qi);
         store3(w, i, wi);
       });

@@ -21,11 +21,19 @@ struct PairList {
   Vec3View torque_on_i; // N m
   Vec3View torque_on_j;
   ScalarView overlap; // m, 0 when not touching; then all per-pair values above are 0 too
-  // Superquadric pairs only (empty in scenes of spheres): the Newton warm start (midway point,
-  // multiplier; multiplier 0 = none) and the axis that last separated the bounding boxes.
+  // Superquadric pairs only (empty in scenes of spheres): the Newton warm start (midway point
+  // relative to the midpoint of the two centres, m; multiplier, 0 = none) and the axis that last
+  // separated the bounding boxes.
   Vec3View midway_point;
   ScalarView midway_multiplier;
   IndexView separating_axis;
+  // Separation certificate of a superquadric pair that did not touch (see
+  // SeparationCertificates): a lower bound on its gap, m (0 = none), and the centre offset
+  // x_j - x_i and turned angles of i and j when it was issued.
+  ScalarView separation_margin;
+  Vec3View separation_offset;
+  ScalarView turned_i_at_separation;
+  ScalarView turned_j_at_separation;
 };
 
 template <class Visitor> void for_each_pair_list_field(Visitor&& visit) {
@@ -44,6 +52,10 @@ template <class Visitor> void for_each_pair_list_field(Visitor&& visit) {
   visit("midway_point", &PairList::midway_point);
   visit("midway_multiplier", &PairList::midway_multiplier);
   visit("separating_axis", &PairList::separating_axis);
+  visit("separation_margin", &PairList::separation_margin);
+  visit("separation_offset", &PairList::separation_offset);
+  visit("turned_i_at_separation", &PairList::turned_i_at_separation);
+  visit("turned_j_at_separation", &PairList::turned_j_at_separation);
 }
 
 // Calls visit(j) for every particle j > i within reach of i, in a fixed order.
@@ -117,6 +129,10 @@ inline void allocate_superquadric_pair_state(PairList& list) {
   list.midway_multiplier = ScalarView("pair_midway_multiplier", list.pair_count);
   list.separating_axis = IndexView("pair_separating_axis", list.pair_count);
   Kokkos::deep_copy(list.separating_axis, -1);
+  list.separation_margin = ScalarView("pair_separation_margin", list.pair_count);
+  list.separation_offset = Vec3View("pair_separation_offset", list.pair_count);
+  list.turned_i_at_separation = ScalarView("pair_turned_i_at_separation", list.pair_count);
+  list.turned_j_at_separation = ScalarView("pair_turned_j_at_separation", list.pair_count);
 }
 
 inline PairList build_pair_list(const ParticleViews& p, const CellBins& bins, double skin,
@@ -194,9 +210,10 @@ KOKKOS_INLINE_FUNCTION int find_old_pair(const PairList& old, const IndexView& o
   return find_in_row(old.row_start, old.partner_id, old_row_of_id(b), a);
 }
 
-// Warm starts survive a rebuild. Flipped pairs: grad F_j + (1/lambda^2) grad F_i = 0, so the
-// multiplier becomes 1/lambda; the box axes of i and j swap, so the separating-axis hint is
-// dropped.
+// Warm starts and separation certificates survive a rebuild. Flipped pairs: grad F_j +
+// (1/lambda^2) grad F_i = 0, so the multiplier becomes 1/lambda; the box axes of i and j swap,
+// so the separating-axis hint is dropped; the certificate's offset changes sign and its turned
+// angles swap.
 inline void transfer_superquadric_pair_state(PairList& fresh, const PairList& old,
                                              const IndexView& old_row_of_id, const IdView& id) {
   auto pair_i = fresh.pair_i;
@@ -207,6 +224,10 @@ inline void transfer_superquadric_pair_state(PairList& fresh, const PairList& ol
   auto old_point = old.midway_point;
   auto old_multiplier = old.midway_multiplier;
   auto old_axis = old.separating_axis;
+  auto margin = fresh.separation_margin, old_margin = old.separation_margin;
+  auto offset = fresh.separation_offset, old_offset = old.separation_offset;
+  auto turned_i = fresh.turned_i_at_separation, old_turned_i = old.turned_i_at_separation;
+  auto turned_j = fresh.turned_j_at_separation, old_turned_j = old.turned_j_at_separation;
   Kokkos::parallel_for(
       "kdem::superquadric_state_transfer", RangePolicy(0, fresh.pair_count), KOKKOS_LAMBDA(int k) {
         bool flipped = false;
@@ -218,6 +239,12 @@ inline void transfer_superquadric_pair_state(PairList& fresh, const PairList& ol
         const double lambda = old_multiplier(found);
         multiplier(k) = flipped ? (lambda > 0 ? 1.0 / lambda : 0.0) : lambda;
         axis(k) = flipped ? -1 : old_axis(found);
+        margin(k) = old_margin(found);
+        const double sign = flipped ? -1.0 : 1.0;
+        for (int c = 0; c < 3; ++c)
+          offset(k, c) = sign * old_offset(found, c);
+        turned_i(k) = flipped ? old_turned_j(found) : old_turned_i(found);
+        turned_j(k) = flipped ? old_turned_i(found) : old_turned_j(found);
       });
 }
 

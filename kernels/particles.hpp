@@ -23,6 +23,9 @@ struct ParticleViews {
   IndexView shape;
   IdView id;                  // stable across sorting, restarts and deletion
   Vec3View position_at_build; // positions when the candidate lists were last built
+  // rad, an upper bound on the total angle the particle has turned since it was created (summed
+  // per step; rigid-body rotation only): separation certificates of pairs use its growth.
+  ScalarView turned_angle;
 
   void allocate(int n) {
     count = n;
@@ -39,6 +42,7 @@ struct ParticleViews {
     shape = IndexView("shape", n);
     id = IdView("id", n);
     position_at_build = Vec3View("position_at_build", n);
+    turned_angle = ScalarView("turned_angle", n);
   }
 };
 
@@ -58,6 +62,7 @@ template <class Visitor> void for_each_particle_field(Visitor&& visit) {
   visit("shape", &ParticleViews::shape);
   visit("id", &ParticleViews::id);
   visit("position_at_build", &ParticleViews::position_at_build);
+  visit("turned_angle", &ParticleViews::turned_angle);
 }
 
 // new_field(k) = old_field(source(k)) for every field; `source` has new_count entries.

@@ -1,11 +1,13 @@
 #pragma once
 // Contact forces of pairs with superquadrics, one statically typed kernel per pair type:
-//   superquadric-superquadric: exact bounding-sphere test, then the oriented-box test (its
+//   superquadric-superquadric: exact bounding-sphere test, the separation certificate of the
+//     last steps (SeparationCertificates), then the oriented-box test (its
 //     last separating axis is tried first; skipped for pairs that touched at the last step),
 //     survivors compacted with a scan, then the
 //     midway-point Newton narrow phase on the compacted list only, so that no lane idles in
 //     the expensive kernel for pairs that the cheap tests rule out;
-//   sphere-superquadric: the closest-point narrow phase, on all candidate pairs of that type.
+//   sphere-superquadric: the closest-point narrow phase, on the candidate pairs of that type
+//     within bounding-sphere reach and without a valid separation certificate.
 // Forces are stored per pair like sphere pairs and gathered by gather_pair_forces.
 #include "../shapes/superquadric_contact.hpp"
 #include "../shapes/superquadric_properties.hpp"
@@ -72,7 +74,47 @@ KOKKOS_INLINE_FUNCTION double pair_equivalent_radius(const ShapeTable& shapes,
   return ri * rj / (ri + rj);
 }
 
-// Superquadric pairs that pass the exact bounding-sphere and the oriented-box tests, as rows
+// Separation certificates: a pair that did not touch gets a lower bound G on its gap
+// (NarrowPhaseResult::separation) with its centre offset and the turned angles of both bodies at
+// that step. A point of body i moves by at most |delta x_i| + theta_i r_i (theta_i the angle it
+// turned since, r_i its bounding radius; turning a sphere moves none of its surface), so while
+// |delta (x_j - x_i)| + theta_i r_i + theta_j r_j < G the pair cannot touch: it skips the box
+// test and the narrow phase and keeps its warm start.
+struct SeparationCertificates {
+  ParticleViews p;
+  ScalarView margin;
+  Vec3View offset;
+  ScalarView turned_i, turned_j;
+
+  SeparationCertificates(const ParticleViews& p_, const PairList& list)
+      : p(p_), margin(list.separation_margin), offset(list.separation_offset),
+        turned_i(list.turned_i_at_separation), turned_j(list.turned_j_at_separation) {}
+
+  KOKKOS_INLINE_FUNCTION double turning_reach(int i) const {
+    return is_superquadric(p.shape(i)) ? p.radius(i) : 0.0;
+  }
+  KOKKOS_INLINE_FUNCTION bool still_apart(int k, int i, int j) const {
+    const double gap = margin(k);
+    if (!(gap > 0))
+      return false;
+    const Vec3 moved = load3(p.position, j) - load3(p.position, i) - load3(offset, k);
+    const double reach = norm(moved) + (p.turned_angle(i) - turned_i(k)) * turning_reach(i) +
+                         (p.turned_angle(j) - turned_j(k)) * turning_reach(j);
+    return reach < gap;
+  }
+  KOKKOS_INLINE_FUNCTION void issue(int k, int i, int j, double separation) const {
+    margin(k) = separation;
+    if (separation > 0) {
+      store3(offset, k, load3(p.position, j) - load3(p.position, i));
+      turned_i(k) = p.turned_angle(i);
+      turned_j(k) = p.turned_angle(j);
+    }
+  }
+  KOKKOS_INLINE_FUNCTION void revoke(int k) const { margin(k) = 0; }
+};
+
+// Superquadric pairs that pass the exact bounding-sphere test, hold no valid separation
+// certificate and pass the oriented-box test, as rows
 // of the pair list; the pairs that fail have their contact cleared and their warm start dropped.
 inline IndexView superquadric_pairs_in_reach(const ParticleViews& p, const ShapeTable& shapes,
                                              PairList& list, const FamilyLists& families,
@@ -86,11 +128,16 @@ inline IndexView superquadric_pairs_in_reach(const ParticleViews& p, const Shape
   auto multiplier = list.midway_multiplier;
   auto overlap = list.overlap;
   const PairSlots slots(list);
+  const SeparationCertificates certificates(p, list);
   Kokkos::parallel_for(
       "kdem::superquadric_pair_prefilter", RangePolicy(0, candidates), KOKKOS_LAMBDA(int m) {
         const int k = rows(m), i = pair_i(k), j = pair_j(k);
         const double reach = p.radius(i) + p.radius(j);
         bool near = norm2(load3(p.position, i) - load3(p.position, j)) < reach * reach;
+        if (near && certificates.still_apart(k, i, j)) {
+          passes(m) = 0;
+          return;
+        }
         // Pairs that touched at the last step almost surely still do: the box test is skipped
         // for them (the book's suggestion, Sect. 2.2.1); the narrow phase decides.
         if (near && overlap(k) == 0) {
@@ -103,6 +150,7 @@ inline IndexView superquadric_pairs_in_reach(const ParticleViews& p, const Shape
         if (!near) {
           slots.clear(k);
           multiplier(k) = 0;
+          certificates.revoke(k);
         }
       });
   survivors = 0;
@@ -128,6 +176,7 @@ template <bool RollingResistance> struct SuperquadricPairKernel {
   Vec3View point;
   ScalarView multiplier;
   DeviceView<std::int64_t[4]> counts;
+  SeparationCertificates certificates;
   CoefficientTable table;
   NarrowPhaseControls controls;
   double limit = 2;
@@ -138,12 +187,18 @@ template <bool RollingResistance> struct SuperquadricPairKernel {
                          const SuperquadricContactSettings& settings,
                          const NarrowPhaseCounters& counters, double dt_)
       : p(p_), shapes(shapes_), slots(list), point(list.midway_point),
-        multiplier(list.midway_multiplier), counts(counters.values), table(table_),
-        controls(settings.newton), limit(settings.curvature_limit), dt(dt_) {}
+        multiplier(list.midway_multiplier), counts(counters.values), certificates(p_, list),
+        table(table_), controls(settings.newton), limit(settings.curvature_limit), dt(dt_) {}
 
-  KOKKOS_INLINE_FUNCTION MidwayState warm_start(int k) const {
+  // The stored point is relative to the midpoint of the two centres, so that it moves with the
+  // pair's mean translation (and is the same for both orders of i and j).
+  KOKKOS_INLINE_FUNCTION Vec3 centres_midpoint(int i, int j) const {
+    return 0.5 * (load3(p.position, i) + load3(p.position, j));
+  }
+
+  KOKKOS_INLINE_FUNCTION MidwayState warm_start(int k, int i, int j) const {
     MidwayState previous;
-    previous.point = load3(point, k);
+    previous.point = load3(point, k) + centres_midpoint(i, j);
     previous.multiplier = multiplier(k);
     return previous;
   }
@@ -153,8 +208,9 @@ template <bool RollingResistance> struct SuperquadricPairKernel {
   KOKKOS_INLINE_FUNCTION void record(int k, int i, int j, const NarrowPhaseResult& r,
                                      double normal_sign) const {
     count_evaluation(counts, r);
-    store3(point, k, r.state.point);
+    store3(point, k, r.state.point - centres_midpoint(i, j));
     multiplier(k) = r.state.multiplier;
+    certificates.issue(k, i, j, r.separation);
     if (!r.geometry.touching) {
       slots.clear(k);
       return;
@@ -186,7 +242,7 @@ void compute_superquadric_pair_forces(const ParticleViews& p, const ShapeTable& 
         const int k = rows(s), i = pair_i(k), j = pair_j(k);
         const NarrowPhaseResult r = superquadric_pair_contact(
             posed_particle(kernel.shapes, kernel.p, i), posed_particle(kernel.shapes, kernel.p, j),
-            kernel.warm_start(k), kernel.controls);
+            kernel.warm_start(k, i, j), kernel.controls);
         kernel.record(k, i, j, r, 1.0);
       });
 }
@@ -215,11 +271,14 @@ void compute_sphere_superquadric_forces(const ParticleViews& p, const ShapeTable
         if (norm2(load3(p.position, i) - load3(p.position, j)) >= reach * reach) {
           kernel.slots.clear(k);
           kernel.multiplier(k) = 0;
+          kernel.certificates.revoke(k);
           return;
         }
+        if (kernel.certificates.still_apart(k, i, j))
+          return;
         const NarrowPhaseResult r = sphere_superquadric_contact(
             load3(p.position, sphere), p.radius(sphere), posed_particle(shapes, p, body),
-            kernel.warm_start(k), kernel.controls);
+            kernel.warm_start(k, i, j), kernel.controls);
         kernel.record(k, i, j, r, sphere_first ? 1.0 : -1.0);
       });
 }

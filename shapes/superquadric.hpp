@@ -132,12 +132,34 @@ struct PosedSuperquadric {
   }
   // Value, world gradient and (optionally) world Hessian R H R^T.
   template <bool WithHessian = true> KOKKOS_INLINE_FUNCTION ShapeFunction evaluate(Vec3 x) const {
-    ShapeFunction local = superquadric_local<WithHessian>(shape, to_local(x));
-    ShapeFunction world;
-    world.value = local.value;
-    world.gradient = rotation * local.gradient;
+    ShapeFunction world = evaluate_with_body_hessian<WithHessian>(x);
     if constexpr (WithHessian)
-      world.hessian = rotate_tensor(rotation, local.hessian);
+      world.hessian = world_hessian(world.hessian);
+    return world;
+  }
+  // Value and world gradient, with the Hessian left in the body frame: solvers that may not need
+  // it (a converged Newton iterate) turn it with world_hessian only when they do.
+  template <bool WithHessian = true>
+  KOKKOS_INLINE_FUNCTION ShapeFunction evaluate_with_body_hessian(Vec3 x) const {
+    ShapeFunction f = superquadric_local<WithHessian>(shape, to_local(x));
+    f.gradient = rotation * f.gradient;
+    return f;
+  }
+  // R H R^T for a body-frame Hessian of superquadric_local, whose (x, z) and (y, z) entries are
+  // zero: six entries of three products each instead of two full matrix products.
+  KOKKOS_INLINE_FUNCTION Mat3 world_hessian(const Mat3& body) const {
+    const Mat3& r = rotation;
+    const double hxx = body.m[0][0], hyy = body.m[1][1], hzz = body.m[2][2], hxy = body.m[0][1];
+    double tx[3], ty[3], tz[3]; // rows of H R^T: tx[b] = sum_k H(0, k) R(b, k), and so on
+    for (int b = 0; b < 3; ++b) {
+      tx[b] = hxx * r.m[b][0] + hxy * r.m[b][1];
+      ty[b] = hxy * r.m[b][0] + hyy * r.m[b][1];
+      tz[b] = hzz * r.m[b][2];
+    }
+    Mat3 world;
+    for (int a = 0; a < 3; ++a)
+      for (int b = a; b < 3; ++b)
+        world.m[a][b] = world.m[b][a] = r.m[a][0] * tx[b] + r.m[a][1] * ty[b] + r.m[a][2] * tz[b];
     return world;
   }
 };

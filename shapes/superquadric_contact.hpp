@@ -35,8 +35,10 @@ struct NarrowPhaseResult {
   ContactGeometry geometry; // normal from j towards i; point midway between the surface points
   double curvature_i = 0, curvature_j = 0; // mean curvature at each surface point, 1/m
   MidwayState state;                       // for the next step, also when not touching
-  int iterations = 0;                      // Newton iterations used, fallback included
-  int status = 0; // 0 converged, 1 converged only through the fallback, 2 failed
+  // Not touching: a lower bound on the gap between the bodies, m (0 when none is known).
+  double separation = 0;
+  int iterations = 0; // Newton iterations used, fallback included
+  int status = 0;     // 0 converged, 1 converged only through the fallback, 2 failed
 };
 
 namespace narrow_phase {
@@ -166,7 +168,7 @@ struct MidwayProblem {
   double tolerance = 1e-10;
 
   struct Evaluation {
-    ShapeFunction fi, fj;
+    ShapeFunction fi, fj; // world gradients, body-frame Hessians (turned only in jacobian)
     Vector4 residual;
     double merit = 0;
     bool finite = false;
@@ -174,8 +176,8 @@ struct MidwayProblem {
 
   KOKKOS_INLINE_FUNCTION Evaluation evaluate(const Unknowns& u) const {
     Evaluation e;
-    e.fi = i.evaluate<true>(u.x);
-    e.fj = j.evaluate<true>(u.x);
+    e.fi = i.evaluate_with_body_hessian(u.x);
+    e.fj = j.evaluate_with_body_hessian(u.x);
     const Vec3 g = length * (e.fi.gradient + (u.w * u.w) * e.fj.gradient);
     e.residual = Vector4{{g.x, g.y, g.z, e.fi.value - e.fj.value}};
     e.merit = squared_norm(e.residual);
@@ -186,7 +188,8 @@ struct MidwayProblem {
 
   KOKKOS_INLINE_FUNCTION Matrix4 jacobian(const Evaluation& e, const Unknowns& u) const {
     Matrix4 a;
-    const Mat3 h = (length * length) * (e.fi.hessian + (u.w * u.w) * e.fj.hessian);
+    const Mat3 h = (length * length) *
+                   (i.world_hessian(e.fi.hessian) + (u.w * u.w) * j.world_hessian(e.fj.hessian));
     const Vec3 lambda_column = (2.0 * u.w * length) * e.fj.gradient;
     const Vec3 gap_row = length * (e.fi.gradient - e.fj.gradient);
     for (int r = 0; r < 3; ++r) {
@@ -285,17 +288,20 @@ KOKKOS_INLINE_FUNCTION bool homotopy_solve(const MidwayProblem& real, Unknowns& 
 
 // Root s > 0 of f(s) = F(origin + s direction), given f(0) < 0: F is convex along lines, so there
 // is one. Newton steps clamped to half the smallest semi-axis and kept inside a bracket that
-// starts at [0, a bound beyond the body's bounding sphere of radius |(a, b, c)|].
+// starts at [0, a bound beyond the body's bounding sphere of radius |(a, b, c)|]. Searched in
+// the body frame, where a point costs no rotation.
 KOKKOS_INLINE_FUNCTION bool surface_distance(const PosedSuperquadric& body, Vec3 origin,
                                              Vec3 direction, double& distance) {
   const SuperquadricShape& s = body.shape;
+  const Vec3 local_origin = body.to_local(origin);
+  const Vec3 local_direction = transpose(body.rotation) * direction;
   double lo = 0;
-  double hi = norm(origin - body.centre) + math::sqrt(s.a * s.a + s.b * s.b + s.c * s.c);
+  double hi = norm(local_origin) + math::sqrt(s.a * s.a + s.b * s.b + s.c * s.c);
   const double max_step = 0.5 * smallest_semi_axis(s);
   const double resolution = 4.0 * double_epsilon * (hi + smallest_semi_axis(s));
   double x = 0;
   for (int iteration = 0; iteration < max_surface_iterations; ++iteration) {
-    const ShapeFunction f = body.evaluate<false>(origin + x * direction);
+    const ShapeFunction f = superquadric_local<false>(s, local_origin + x * local_direction);
     if (!kdem::is_finite(f.value))
       return false;
     if (f.value < 0)
@@ -304,7 +310,7 @@ KOKKOS_INLINE_FUNCTION bool surface_distance(const PosedSuperquadric& body, Vec3
       hi = x;
     if (f.value == 0)
       break;
-    const double slope = dot(f.gradient, direction);
+    const double slope = dot(f.gradient, local_direction);
     double next = 0.5 * (lo + hi);
     if (slope > 0 && kdem::is_finite(slope)) {
       const double correction = math::clamp(f.value / slope, -max_step, max_step);
@@ -323,6 +329,12 @@ KOKKOS_INLINE_FUNCTION bool surface_distance(const PosedSuperquadric& body, Vec3
   return kdem::is_finite(x);
 }
 
+// Mean curvature of a body's surface at a world point: invariant under rotation, so taken from
+// the body-frame gradient and Hessian.
+KOKKOS_INLINE_FUNCTION double surface_mean_curvature(const PosedSuperquadric& body, Vec3 point) {
+  return mean_curvature(superquadric_local<true>(body.shape, body.to_local(point)));
+}
+
 // Surface points, overlap and curvatures on the line through x0 along the unit normal (from j
 // towards i): X_i = x0 - alpha n on i's side facing j, X_j = x0 + beta n, overlap alpha + beta.
 // This is the digest's alpha0 - beta0 with its normal grad F_i / |grad F_i| = -n.
@@ -336,10 +348,30 @@ KOKKOS_INLINE_FUNCTION bool chord_geometry(const PosedSuperquadric& i, const Pos
   result.geometry.overlap = alpha + beta;
   result.geometry.normal = normal;
   result.geometry.point = 0.5 * (surface_i + surface_j);
-  result.curvature_i = mean_curvature(i.evaluate<true>(surface_i));
-  result.curvature_j = mean_curvature(j.evaluate<true>(surface_j));
+  result.curvature_i = surface_mean_curvature(i, surface_i);
+  result.curvature_j = surface_mean_curvature(j, surface_j);
   return kdem::is_finite(result.geometry.overlap) && is_finite(result.geometry.point) &&
          kdem::is_finite(result.curvature_i + result.curvature_j);
+}
+
+// A lower bound on the gap from any point x outside both bodies. F is convex, so F(y) >= F(x) +
+// g . (y - x): body i lies behind the plane through x with normal n_i = g_i / |g_i| by
+// m_i = F_i(x) / |g_i|, and body j behind its plane with normal n_j by m_j. Along n_i, body j
+// reaches at most |n_i + n_j| (|x - c_j| + r_j) closer than m_j (r_j >= j's bounding radius), so
+// the bodies' projections on n_i are apart by at least m_i + m_j - that. Rounding of F (a few
+// 1e-16 of its unit-scale terms) is covered by 1e-9 L. Returns 0 where x is not outside both.
+KOKKOS_INLINE_FUNCTION double separation_bound(const PosedSuperquadric& i,
+                                               const PosedSuperquadric& j, Vec3 x,
+                                               const ShapeFunction& fi, const ShapeFunction& fj) {
+  const double gi = norm(fi.gradient), gj = norm(fj.gradient);
+  if (!(fi.value > 0 && fj.value > 0 && gi > 0 && gj > 0))
+    return 0;
+  const SuperquadricShape& sj = j.shape;
+  const double reach_j = norm(x - j.centre) + math::sqrt(sj.a * sj.a + sj.b * sj.b + sj.c * sj.c);
+  const double tilt = norm((1.0 / gi) * fi.gradient + (1.0 / gj) * fj.gradient);
+  const double length = math::min(smallest_semi_axis(i.shape), smallest_semi_axis(sj));
+  const double bound = fi.value / gi + fj.value / gj - tilt * reach_j - 1e-9 * length;
+  return kdem::is_finite(bound) && bound > 0 ? bound : 0.0;
 }
 
 KOKKOS_INLINE_FUNCTION NarrowPhaseResult failed_result(int iterations) {
@@ -457,6 +489,7 @@ superquadric_pair_contact(const PosedSuperquadric& i, const PosedSuperquadric& j
       unit_or_zero(unit_or_zero(e.fj.gradient) - unit_or_zero(e.fi.gradient)); // j towards i
   if (e.fi.value < 0 && e.fj.value < 0 && !chord_geometry(i, j, u.x, normal, result))
     return failed_result(iterations);
+  result.separation = separation_bound(i, j, u.x, e.fi, e.fj);
   return result;
 }
 
@@ -503,6 +536,11 @@ sphere_superquadric_contact(Vec3 sphere_centre, double sphere_radius, const Pose
   const Vec3 normal = unit_or_zero(e.f.gradient); // outward from j at p: from j towards i
   const double signed_distance = dot(sphere_centre - u.x, normal);
   const double overlap = sphere_radius - signed_distance;
+  // Not touching: the body lies behind the plane through p with normal n by F(p) / |grad F(p)|
+  // (convexity), the sphere in front of it by its signed distance minus its radius.
+  const double plane_offset = e.f.value / norm(e.f.gradient);
+  if (overlap <= 0 && kdem::is_finite(plane_offset))
+    result.separation = math::max(0.0, plane_offset - overlap - 1e-9 * length);
   if (overlap > 0) {
     const Vec3 sphere_surface = sphere_centre - sphere_radius * normal;
     result.geometry.touching = true;
