@@ -20,6 +20,7 @@ namespace kdem {
 struct SuperquadricContactSettings {
   NarrowPhaseControls newton;
   double curvature_limit = 2;
+  bool separation_certificates = true; // see SeparationCertificates
 };
 
 // Counts of one step's superquadric narrow-phase evaluations (integers: the sums do not
@@ -85,10 +86,12 @@ struct SeparationCertificates {
   ScalarView margin;
   Vec3View offset;
   ScalarView turned_i, turned_j;
+  bool enabled = true; // false: none issued, so every pair is tested every step
 
-  SeparationCertificates(const ParticleViews& p_, const PairList& list)
+  SeparationCertificates(const ParticleViews& p_, const PairList& list, bool enabled_)
       : p(p_), margin(list.separation_margin), offset(list.separation_offset),
-        turned_i(list.turned_i_at_separation), turned_j(list.turned_j_at_separation) {}
+        turned_i(list.turned_i_at_separation), turned_j(list.turned_j_at_separation),
+        enabled(enabled_) {}
 
   KOKKOS_INLINE_FUNCTION double turning_reach(int i) const {
     return is_superquadric(p.shape(i)) ? p.radius(i) : 0.0;
@@ -103,8 +106,8 @@ struct SeparationCertificates {
     return reach < gap;
   }
   KOKKOS_INLINE_FUNCTION void issue(int k, int i, int j, double separation) const {
-    margin(k) = separation;
-    if (separation > 0) {
+    margin(k) = enabled ? separation : 0.0;
+    if (margin(k) > 0) {
       store3(offset, k, load3(p.position, j) - load3(p.position, i));
       turned_i(k) = p.turned_angle(i);
       turned_j(k) = p.turned_angle(j);
@@ -118,7 +121,7 @@ struct SeparationCertificates {
 // of the pair list; the pairs that fail have their contact cleared and their warm start dropped.
 inline IndexView superquadric_pairs_in_reach(const ParticleViews& p, const ShapeTable& shapes,
                                              PairList& list, const FamilyLists& families,
-                                             int& survivors) {
+                                             bool use_certificates, int& survivors) {
   const int candidates = families.superquadric_pair_count;
   auto passes = families.superquadric_pair_passes;
   auto pairs_left = families.superquadric_pairs_left;
@@ -128,7 +131,7 @@ inline IndexView superquadric_pairs_in_reach(const ParticleViews& p, const Shape
   auto multiplier = list.midway_multiplier;
   auto overlap = list.overlap;
   const PairSlots slots(list);
-  const SeparationCertificates certificates(p, list);
+  const SeparationCertificates certificates(p, list, use_certificates);
   Kokkos::parallel_for(
       "kdem::superquadric_pair_prefilter", RangePolicy(0, candidates), KOKKOS_LAMBDA(int m) {
         const int k = rows(m), i = pair_i(k), j = pair_j(k);
@@ -187,8 +190,9 @@ template <bool RollingResistance> struct SuperquadricPairKernel {
                          const SuperquadricContactSettings& settings,
                          const NarrowPhaseCounters& counters, double dt_)
       : p(p_), shapes(shapes_), slots(list), point(list.midway_point),
-        multiplier(list.midway_multiplier), counts(counters.values), certificates(p_, list),
-        table(table_), controls(settings.newton), limit(settings.curvature_limit), dt(dt_) {}
+        multiplier(list.midway_multiplier), counts(counters.values),
+        certificates(p_, list, settings.separation_certificates), table(table_),
+        controls(settings.newton), limit(settings.curvature_limit), dt(dt_) {}
 
   // The stored point is relative to the midpoint of the two centres, so that it moves with the
   // pair's mean translation (and is the same for both orders of i and j).
@@ -233,7 +237,8 @@ void compute_superquadric_pair_forces(const ParticleViews& p, const ShapeTable& 
   if (families.superquadric_pair_count == 0)
     return;
   int survivors = 0;
-  const IndexView rows = superquadric_pairs_in_reach(p, shapes, list, families, survivors);
+  const IndexView rows = superquadric_pairs_in_reach(p, shapes, list, families,
+                                                     settings.separation_certificates, survivors);
   auto pair_i = list.pair_i, pair_j = list.pair_j;
   const SuperquadricPairKernel<RollingResistance> kernel(p, shapes, list, table, settings, counters,
                                                          dt);

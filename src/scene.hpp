@@ -67,6 +67,7 @@ struct SuperquadricContactConfig {
   double tolerance = 0;       // Newton tolerance; 0: the engine's default
   int max_iterations = 0;     // Newton iteration cap; 0: the engine's default
   double curvature_limit = 2; // R* from curvature is kept within [1/limit, limit] x R*_volume
+  bool separation_certificates = true; // skip pairs whose gap bound outlasts their motion
 };
 
 struct ParticleSourceConfig {

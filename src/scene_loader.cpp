@@ -719,7 +719,8 @@ const ShapeConfig& shape_named(const Value& value, const std::vector<ShapeConfig
 }
 
 SuperquadricContactConfig read_superquadric_contact(const Value& value) {
-  const Mapping map(value, {"tolerance", "max_iterations", "curvature_limit"});
+  const Mapping map(value,
+                    {"tolerance", "max_iterations", "curvature_limit", "separation_certificates"});
   SuperquadricContactConfig config;
   if (auto value_found = map.find("tolerance"))
     config.tolerance = number_where(*value_found, "a Newton tolerance in (0, 1e-2]",
@@ -729,6 +730,8 @@ SuperquadricContactConfig read_superquadric_contact(const Value& value) {
   if (auto value_found = map.find("curvature_limit"))
     config.curvature_limit =
         number_where(*value_found, "a factor >= 1", [](double f) { return f >= 1; });
+  if (auto value_found = map.find("separation_certificates"))
+    config.separation_certificates = boolean(*value_found);
   return config;
 }
 

@@ -51,6 +51,8 @@ void Engine::State::setup_shapes() {
   }
 
   superquadric_settings.curvature_limit = scene.superquadric_contact.curvature_limit;
+  superquadric_settings.separation_certificates =
+      scene.superquadric_contact.separation_certificates;
   if (scene.superquadric_contact.tolerance > 0)
     superquadric_settings.newton.tolerance = scene.superquadric_contact.tolerance;
   if (scene.superquadric_contact.max_iterations > 0)

@@ -932,6 +932,16 @@ TEST(SceneShapes, ToleranceOutOfRange) {
                          "expected a Newton tolerance in (0, 1e-2], got \"0.5\""));
 }
 
+TEST(SceneShapes, SeparationCertificatesAreOnByDefaultAndCanBeTurnedOff) {
+  EXPECT_TRUE(load_text(minimal_scene()).superquadric_contact.separation_certificates);
+  const SceneConfig scene =
+      load_text(minimal_scene_plus("superquadric_contact: {separation_certificates: false}\n"));
+  EXPECT_FALSE(scene.superquadric_contact.separation_certificates);
+  EXPECT_TRUE(
+      fails_with(minimal_scene_plus("superquadric_contact: {separation_certificates: 2}\n"), 14,
+                 "superquadric_contact.separation_certificates", "expected true or false"));
+}
+
 TEST(SceneOrientation, FixedOrientationIsNormalisedAndTurnsRandomOff) {
   const SceneConfig scene = load_text(
       minimal_scene_plus("    orientation: [2, 0, 0, 2]\n    angular_velocity: [0, 3, 0.5]\n"));
