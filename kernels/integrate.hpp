@@ -114,7 +114,7 @@ void kick_and_drift(const ParticleViews& p, double dt) {
         Vec3 wi = load3(w, i);
         const Quat before = qi;
         Rotation::kick_and_turn(qi, wi, load3(inertia, i), load3(torque, i), dt);
-        if constexpr (Rotation::bounds_turning)
+        if (Rotation::bounds_turning) // not constexpr: nvcc will not capture in that context
           turned(i) += rotation_angle_bound(before, qi);
         store_quat(q, i, qi);
         store3(w, i, wi);
