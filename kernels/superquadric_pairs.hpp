@@ -98,7 +98,7 @@ struct SeparationCertificates {
   }
   KOKKOS_INLINE_FUNCTION bool still_apart(int k, int i, int j) const {
     const double gap = margin(k);
-    if (!(gap > 0))
+    if (!enabled || !(gap > 0)) // disabled: also those read from a checkpoint are ignored
       return false;
     const Vec3 moved = load3(p.position, j) - load3(p.position, i) - load3(offset, k);
     const double reach = norm(moved) + (p.turned_angle(i) - turned_i(k)) * turning_reach(i) +

@@ -5,12 +5,17 @@ equal volume, wall time per shape and N, cost relative to spheres, and mean disc
 usage: run_table.py [--kdem build/openmp/bin/kdem] [--threads 2] [--counts 1000,3162]
                     [--shapes sphere,cylinder,cube] [--out out/hopper_shapes]
                     [--json perf/results/hopper_shapes.json] [--png docs/img/hopper_shapes.png]
-                    [--plot-only]
+                    [--segment-steps S] [--plot-only]
 
 Each run is one `kdem run` of a scene from make_scenes.py (fill for 0.25 s, then discharge for
 0.5 s). The wall time is the run's own (run.json: engine time without start-up and output).
 The mean discharge rate is the least-squares slope of the discharged mass between 10 % and
 70 % of the particles' total mass (after the start-up transient, before the bed runs dry).
+
+--segment-steps S runs each case as segments of S steps, each restarted from the checkpoint of
+the one before (restarts are bit for bit), in OUT/<case>/segment_000, _001, ...; the wall time
+is the sum of the segments' engine times. Segments that have finished (their run.json exists)
+are kept, so a run stopped between segments continues where it stopped when called again.
 """
 import argparse
 import csv
@@ -45,9 +50,35 @@ def discharge_rate(time, mass, total_mass):
     return slope([t for t, _ in window], [m for _, m in window])
 
 
-def run_case(kdem, scene, out_dir, threads):
+def run_case(kdem, scene, out_dir, threads, extra=()):
     env = dict(os.environ, OMP_NUM_THREADS=str(threads), OMP_PROC_BIND="false")
-    subprocess.run([kdem, "run", scene, "--out", out_dir, "--quiet"], check=True, env=env)
+    subprocess.run([kdem, "run", scene, "--out", out_dir, "--quiet"] + list(extra), check=True,
+                   env=env)
+
+
+def finished(summary, scene):
+    """Whether a segment's run.json reached the scene's duration."""
+    with open(scene) as f:
+        values = dict(line.split(":", 1) for line in f if line.startswith(("time_step:", "duration:")))
+    dt, duration = float(values["time_step"]), float(values["duration"])
+    return summary["simulated_time"] >= duration - 0.5 * dt
+
+
+def run_segments(kdem, scene, out_dir, threads, segment_steps):
+    """Runs the case in restarted segments; returns their directories in order."""
+    segments = []
+    while True:
+        segment = os.path.join(out_dir, "segment_%03d" % len(segments))
+        summary_path = os.path.join(segment, "run.json")
+        if not os.path.exists(summary_path):
+            extra = ["--steps", str(segment_steps)]
+            if segments:
+                extra += ["--restart", os.path.join(segments[-1], "checkpoint.h5")]
+            run_case(kdem, scene, segment, threads, extra)
+        segments.append(segment)
+        with open(summary_path) as f:
+            if finished(json.load(f), scene):
+                return segments
 
 
 def total_mass(out_dir, summary):
@@ -59,19 +90,32 @@ def total_mass(out_dir, summary):
     return left + summary["discharged_mass"]
 
 
-def collect(shape, count, out_dir):
-    with open(os.path.join(out_dir, "run.json")) as f:
-        summary = json.load(f)
-    time, mass = read_series(os.path.join(out_dir, "series.csv"))
-    everything = total_mass(out_dir, summary)
+def collect(shape, count, out_dirs):
+    """One record from the run directories of a case (one, or its segments in order)."""
+    summaries = []
+    time, mass = [], []
+    for out_dir in out_dirs:
+        with open(os.path.join(out_dir, "run.json")) as f:
+            summaries.append(json.load(f))
+        t, m = read_series(os.path.join(out_dir, "series.csv"))
+        keep = [k for k in range(len(t)) if not time or t[k] > time[-1]]
+        time += [t[k] for k in keep]
+        mass += [m[k] for k in keep]
+    last = summaries[-1]
+    everything = total_mass(out_dirs[-1], last)
+    wall = sum(s["wall_seconds"] for s in summaries)
+    steps = sum(s["steps"] for s in summaries)
+    particle_steps = sum(s["particle_steps_per_second"] * s["wall_seconds"] for s in summaries)
     return {
-        "shape": shape, "count": count, "wall_seconds": summary["wall_seconds"],
-        "steps": summary["steps"], "threads": summary["threads"], "backend": summary["backend"],
-        "particle_steps_per_second": summary["particle_steps_per_second"],
-        "narrow_phase_failures": summary["narrow_phase_failures"],
-        "narrow_phase_evaluations": summary["extra"].get("narrow_phase_evaluations", 0),
-        "narrow_phase_fallbacks": summary["extra"].get("narrow_phase_fallbacks", 0),
-        "discharged_fraction": summary["discharged_mass"] / everything,
+        "shape": shape, "count": count, "wall_seconds": wall, "steps": steps,
+        "segments": len(summaries), "threads": last["threads"], "backend": last["backend"],
+        "particle_steps_per_second": particle_steps / wall if wall > 0 else 0.0,
+        "narrow_phase_failures": sum(s["narrow_phase_failures"] for s in summaries),
+        "narrow_phase_evaluations": sum(s["extra"].get("narrow_phase_evaluations", 0)
+                                        for s in summaries),
+        "narrow_phase_fallbacks": sum(s["extra"].get("narrow_phase_fallbacks", 0)
+                                      for s in summaries),
+        "discharged_fraction": last["discharged_mass"] / everything,
         "discharge_rate": discharge_rate(time, mass, everything),
         "series_time": time, "series_mass": mass,
     }
@@ -158,6 +202,8 @@ def main():
     parser.add_argument("--out", default=os.path.join(ROOT, "out/hopper_shapes"))
     parser.add_argument("--json", default=os.path.join(ROOT, "perf/results/hopper_shapes.json"))
     parser.add_argument("--png", default=os.path.join(ROOT, "docs/img/hopper_shapes.png"))
+    parser.add_argument("--segment-steps", type=int, default=0,
+                        help="run each case in restarted segments of this many steps")
     parser.add_argument("--plot-only", action="store_true", help="re-plot the JSON file")
     args = parser.parse_args()
 
@@ -173,9 +219,14 @@ def main():
         for count in (int(c) for c in args.counts.split(",")):
             for shape in args.shapes.split(","):
                 out_dir = os.path.join(args.out, "%s_%d" % (shape, count))
-                run_case(args.kdem, os.path.join(scenes, "%s_%d.yaml" % (shape, count)), out_dir,
-                         args.threads)
-                results.append(collect(shape, count, out_dir))
+                scene = os.path.join(scenes, "%s_%d.yaml" % (shape, count))
+                if args.segment_steps > 0:
+                    out_dirs = run_segments(args.kdem, scene, out_dir, args.threads,
+                                            args.segment_steps)
+                else:
+                    run_case(args.kdem, scene, out_dir, args.threads)
+                    out_dirs = [out_dir]
+                results.append(collect(shape, count, out_dirs))
                 print("done: %s N = %d in %.1f s" % (shape, count, results[-1]["wall_seconds"]),
                       flush=True)
         record = {"machine": cpu_name(), "cores": os.cpu_count(), "runs": results}
