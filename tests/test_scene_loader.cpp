@@ -937,9 +937,9 @@ TEST(SceneShapes, SeparationCertificatesAreOnByDefaultAndCanBeTurnedOff) {
   const SceneConfig scene =
       load_text(minimal_scene_plus("superquadric_contact: {separation_certificates: false}\n"));
   EXPECT_FALSE(scene.superquadric_contact.separation_certificates);
-  EXPECT_TRUE(
-      fails_with(minimal_scene_plus("superquadric_contact: {separation_certificates: 2}\n"), 14,
-                 "superquadric_contact.separation_certificates", "expected true or false"));
+  EXPECT_TRUE(fails_with(minimal_scene_plus("superquadric_contact: {separation_certificates: 2}\n"),
+                         14, "superquadric_contact.separation_certificates",
+                         "expected true or false"));
 }
 
 TEST(SceneOrientation, FixedOrientationIsNormalisedAndTurnsRandomOff) {
