@@ -5,10 +5,18 @@
 #   make demo          build, run the hopper demo into out/demo and plot it
 #   make bench         also install the peer codes (liggghts), then perf/run_bench.py
 #   make serial        configure/build preset "serial" (build/serial)
+#   make memcheck      preset "memcheck" (build/memcheck): engine data in a host space that host
+#                      code may not touch outside kernels; runs the engine tests there
 #   make cuda          CUDA Kokkos (sm_90) + preset "cuda" (build/cuda); compiles and links
 #                      everything, runs nothing (see test-cuda)
 #   make cuda-sm80     same for Ampere sm_80 (build/cuda-sm80)
 #   make test-cuda     ctest on build/cuda (needs a GPU)
+#   make perf-check    instructions per particle-step per stage (callgrind, fixed scenes) against
+#                      perf/baseline/callgrind_stages.json; fails on a regression above 5 %
+#   make perf-baseline write that baseline anew (after a change that is meant to cost more)
+#   make gpu-check     on a machine with an NVIDIA GPU: build for it, run the tests, the backend
+#                      agreement and the benchmarks; report in out/gpu-check (GPU_CHECK_PRESET=openmp:
+#                      the same on the CPU, as CI runs it)
 #   make format        clang-format -i on the C++ sources
 #   make clean         remove build/ and out/ (the Kokkos cache is kept)
 #
@@ -35,8 +43,8 @@ DEPS := scripts/deps.sh
 PYTHON ?= /usr/bin/python3
 MAKEFLAGS += --no-print-directory
 
-.PHONY: all deps deps-cuda deps-bench build test demo bench serial cuda cuda-sm80 \
-        test-cuda format clean help
+.PHONY: all deps deps-cuda deps-bench build test demo bench serial memcheck memcheck-build \
+        cuda cuda-sm80 test-cuda perf-check perf-baseline gpu-check format clean help
 .DEFAULT_GOAL := build
 
 all: build
@@ -90,6 +98,9 @@ build: deps
 serial: deps
 	$(call configure_build,serial,openmp)
 
+memcheck-build: deps
+	$(call configure_build,memcheck,openmp)
+
 cuda: deps-cuda
 	@$(DEPS) --find-nvcc >/dev/null || { echo "make cuda: nvcc not found" >&2; exit 1; }
 	$(call configure_build,cuda,cuda-sm90)
@@ -102,8 +113,25 @@ cuda-sm80: deps-cuda
 test: build
 	OMP_PROC_BIND=$${OMP_PROC_BIND:-false} ctest --test-dir build/openmp --output-on-failure
 
+# The engine suites and whole-program runs with every host access of engine data checked.
+memcheck: memcheck-build
+	ctest --test-dir build/memcheck --output-on-failure
+
 test-cuda: cuda
 	ctest --test-dir build/cuda --output-on-failure
+
+perf-check: build
+	$(PYTHON) perf/callgrind_stages.py --bin build/openmp/bin --scenes spheres,cubes \
+	    --check perf/baseline/callgrind_stages.json --out out/perf-check/callgrind_stages.json
+
+perf-baseline: build
+	$(PYTHON) perf/callgrind_stages.py --bin build/openmp/bin \
+	    --write-baseline perf/baseline/callgrind_stages.json
+
+GPU_CHECK_PRESET ?= auto
+GPU_CHECK_ARGS ?=
+gpu-check: build
+	$(PYTHON) perf/gpu_check.py --preset $(GPU_CHECK_PRESET) --out out/gpu-check $(GPU_CHECK_ARGS)
 
 demo: build
 	build/openmp/bin/kdem run cases/hopper/hopper_spheres.yaml --out out/demo

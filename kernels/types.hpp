@@ -1,18 +1,25 @@
 #pragma once
 // Execution and memory space of one engine build, and the View aliases used by every kernel.
-// Each library target is compiled for one backend by defining KDEM_EXEC_SPACE.
+// Each library target is compiled for one backend by defining KDEM_EXEC_SPACE (and, for the
+// memory-space check, KDEM_MEMORY_SPACE).
 #include <Kokkos_Core.hpp>
 #include <cstdint>
 #include <string>
 
+#include "memory_space_check.hpp"
+
 #ifndef KDEM_EXEC_SPACE
 #define KDEM_EXEC_SPACE Kokkos::DefaultExecutionSpace
+#endif
+// The `memcheck` preset sets kdem::CheckedMemorySpace<KDEM_EXEC_SPACE> (memory_space_check.hpp).
+#ifndef KDEM_MEMORY_SPACE
+#define KDEM_MEMORY_SPACE KDEM_EXEC_SPACE::memory_space
 #endif
 
 namespace kdem {
 
 using ExecSpace = KDEM_EXEC_SPACE;
-using MemSpace = ExecSpace::memory_space;
+using MemSpace = KDEM_MEMORY_SPACE;
 using RangePolicy = Kokkos::RangePolicy<ExecSpace>;
 
 template <class T> using DeviceView = Kokkos::View<T, MemSpace>;

@@ -39,14 +39,13 @@
 #include <time.h>
 #include <vector>
 
+#include "kernels/types.hpp"
 #include "perf/narrow_phase_cases.hpp"
 
 namespace {
 
 using namespace kdem;
 using namespace kdem::narrow_phase_bench;
-using ExecSpace = KDEM_EXEC_SPACE;
-using MemSpace = ExecSpace::memory_space;
 
 struct Options {
   std::string mode = "hard";
@@ -589,6 +588,7 @@ int main(int argc, char** argv) {
     const Options options = parse(argc, argv);
     stage = "run";
     Kokkos::ScopeGuard kokkos(argc, argv);
+    kdem::install_memory_space_check<kdem::MemSpace>();
     return run(options);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "kdem_bench_narrow_phase (%s): %s\n", stage.c_str(), e.what());

@@ -29,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "kernels/types.hpp"
 #include "src/engine.hpp"
 #include "src/scene.hpp"
 
@@ -419,6 +420,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   Kokkos::ScopeGuard kokkos(argc, argv);
+  kdem::install_memory_space_check<kdem::MemSpace>();
   try {
     return run(options);
   } catch (const std::exception& e) {

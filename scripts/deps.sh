@@ -35,7 +35,7 @@ HOST_CXX=g++
 STAMP=.kdem-complete
 
 APT_PACKAGES=(g++ make cmake libeigen3-dev libhdf5-dev libvtk9-dev libgtest-dev
-  libyaml-cpp-dev python3-matplotlib python3-h5py dpkg-dev xz-utils)
+  libyaml-cpp-dev python3-matplotlib python3-h5py dpkg-dev xz-utils valgrind binutils)
 BENCH_PACKAGES=(liggghts)
 
 log() { echo "[deps] $*" >&2; }

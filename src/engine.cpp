@@ -237,14 +237,18 @@ void Engine::State::setup_sources() {
   }
 }
 
+// The particles that new ones must not overlap: positions and radii only, brought to the host
+// as input of the insertion (see docs/architecture.md, memory spaces).
 Obstacles Engine::State::current_obstacles() const {
+  Kokkos::Profiling::pushRegion("kdem::input");
+  const std::vector<double> position = flatten_to_host(particles.position, particles.count);
+  const std::vector<double> radius = flatten_to_host(particles.radius, particles.count);
+  Kokkos::Profiling::popRegion();
   Obstacles obstacles;
-  const ParticleSnapshot snap = make_snapshot();
-  for (std::size_t i = 0; i < snap.size(); ++i) {
-    obstacles.centres.push_back(
-        {snap.position[3 * i], snap.position[3 * i + 1], snap.position[3 * i + 2]});
-    obstacles.radii.push_back(snap.radius[i]);
-  }
+  obstacles.radii = radius;
+  obstacles.centres.reserve(radius.size());
+  for (std::size_t i = 0; i < radius.size(); ++i)
+    obstacles.centres.push_back({position[3 * i], position[3 * i + 1], position[3 * i + 2]});
   return obstacles;
 }
 
@@ -274,7 +278,10 @@ void Engine::add_particles(const std::vector<ParticleInit>& particles) {
 void Engine::State::append_particles(const std::vector<ParticleInit>& added) {
   if (added.empty())
     return;
+  // Input: the one host-to-device transfer a time step may make (see docs/architecture.md).
+  Kokkos::Profiling::pushRegion("kdem::input");
   const ParticleViews fresh = upload_new_particles(added);
+  Kokkos::Profiling::popRegion();
   const int old_count = particles.count;
   ParticleViews grown;
   grown.allocate(old_count + fresh.count);
@@ -514,6 +521,14 @@ std::int64_t Engine::step_count() const {
 int Engine::particle_count() const {
   return state_->particles.count;
 }
+int Engine::pair_candidates() const {
+  return state_->pairs.pair_count;
+}
+
+int Engine::wall_candidates() const {
+  return state_->wall_contacts.entry_count;
+}
+
 double Engine::time_step() const {
   return state_->dt;
 }

@@ -70,6 +70,8 @@ public:
   double time() const;
   std::int64_t step_count() const;
   int particle_count() const;
+  int pair_candidates() const; // entries of the candidate pair list now
+  int wall_candidates() const; // entries of the particle-wall candidate list now
   double time_step() const;
   TimeStepAdvice time_step_advice() const;
 

@@ -6,12 +6,14 @@
 #include <string>
 #include <vector>
 
+#include "../kernels/types.hpp"
 #include "runner.hpp"
 
 namespace {
 
 const char* usage =
     "usage: kdem run SCENE.yaml [--out DIR] [--restart CHECKPOINT.h5] [--steps N] [--quiet]\n"
+    "                [--kernel-times]\n"
     "       kdem check SCENE.yaml\n"
     "       kdem --version\n"
     "Kokkos options (e.g. --kokkos-threads=2) are passed to Kokkos.\n";
@@ -50,6 +52,8 @@ Arguments parse(int argc, char** argv) {
       args.run.max_steps = std::stoll(value());
     else if (w == "--quiet")
       args.run.quiet = true;
+    else if (w == "--kernel-times")
+      args.run.kernel_times = true;
     else if (args.run.scene_path.empty() && w.rfind("--", 0) != 0)
       args.run.scene_path = w;
     else
@@ -80,6 +84,7 @@ int main(int argc, char** argv) {
   setenv("OMP_PROC_BIND", "spread", 0);
   setenv("OMP_PLACES", "threads", 0);
   Kokkos::ScopeGuard kokkos(argc, argv);
+  kdem::install_memory_space_check<kdem::MemSpace>();
   if (args.command == "check")
     return kdem::check_scene(args.run.scene_path);
   return kdem::run_scene(args.run);

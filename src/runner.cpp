@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "engine.hpp"
+#include "kernel_timer.hpp"
 #include "progress.hpp"
 #include "run_summary.hpp"
 #include "scene_loader.hpp"
@@ -198,6 +199,9 @@ RunSummary summarise(const Engine& engine, const OutputWriter& output, std::int6
       initial_energy != 0 ? (energy - initial_energy) / std::abs(initial_energy) : 0;
   summary.extra.push_back({"time_step", engine.time_step()});
   summary.extra.push_back({"list_builds", double(d.list_builds)});
+  summary.extra.push_back({"pair_candidates", double(engine.pair_candidates())});
+  summary.extra.push_back({"wall_candidates", double(engine.wall_candidates())});
+  summary.extra.push_back({"pair_contacts", double(d.pair_contacts)});
   summary.extra.push_back({"discharged_count", double(d.discharged_count)});
   summary.extra.push_back({"narrow_phase_evaluations", double(narrow.evaluations)});
   summary.extra.push_back({"narrow_phase_fallbacks", double(narrow.fallbacks)});
@@ -210,6 +214,9 @@ RunSummary summarise(const Engine& engine, const OutputWriter& output, std::int6
 } // namespace
 
 int run_scene(const RunOptions& options) {
+  std::optional<KernelTimer> timer; // before the engine, so that it sees every allocation
+  if (options.kernel_times)
+    timer.emplace();
   std::optional<Engine> engine;
   SceneConfig scene;
   try {
@@ -237,6 +244,8 @@ int run_scene(const RunOptions& options) {
     const double initial_energy =
         first.translational_energy + first.rotational_energy + first.potential_energy;
     ProgressLine progress(options.quiet, engine->step_count() + remaining);
+    if (timer)
+      timer->reset(); // the kernels of the steps only
     const auto start = std::chrono::steady_clock::now();
     double particle_steps = 0;
     for (std::int64_t k = 0; k < remaining; ++k) {
@@ -251,6 +260,9 @@ int run_scene(const RunOptions& options) {
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     progress.finish();
+    if (timer)
+      timer->write_json(directory / "kernel_times.json", remaining, std::int64_t(particle_steps),
+                        engine->particle_count());
     output.finish(*engine, scene.output.final_checkpoint);
     write_run_json(directory / "run.json",
                    summarise(*engine, output, remaining, seconds, particle_steps, initial_energy));

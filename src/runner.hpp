@@ -12,6 +12,7 @@ struct RunOptions {
   std::string restart_path;     // continue from this checkpoint
   std::int64_t max_steps = -1;  // stop after this many steps of this invocation (tests)
   bool quiet = false;
+  bool kernel_times = false; // write kernel_times.json: time and launches per kernel label
 };
 
 // Returns the process exit code; prints errors to stderr. Nothing is written when the scene

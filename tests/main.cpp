@@ -4,9 +4,12 @@
 
 #include <cstdlib>
 
+#include "kernels/types.hpp"
+
 int main(int argc, char** argv) {
   setenv("OMP_PROC_BIND", "false", 0); // test runs share cores with other tests
   Kokkos::ScopeGuard kokkos(argc, argv);
+  kdem::install_memory_space_check<kdem::MemSpace>();
   ::testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();
 }
