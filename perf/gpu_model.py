@@ -46,9 +46,12 @@ PAIR_ROW_SPHERES = 4 * 3 + 8 + 24 * 5 + 8  # i, j, reverse index, partner id, 5 
 PAIR_ROW_SUPERQUADRIC = 24 + 8 + 4 + 8 + 24 + 8 + 8  # warm start, box axis, certificate
 
 
-def stage_bytes(items, rigid, rolling):
+def stage_bytes(items, rigid, rolling, cached_gathers=True):
     """Bytes per particle-step of each stage, given the items per particle-step (a dict with
-    candidates, contacts, evaluations, superquadric_candidates, wall_candidates, rebuilds)."""
+    candidates, contacts, evaluations, superquadric_candidates, wall_candidates, rebuilds).
+    With cached_gathers each particle's row is read from memory once per kernel (its pairs'
+    partners are its neighbours in cell order, so they stay in cache); without, every pair
+    reads its partner's row again (the pessimistic end)."""
     c, t = items["candidates"], items["contacts"]
     w, b = items["wall_candidates"], items["rebuilds"]
     history = 48 if rolling else 24  # tangential spring, and the rolling torque if on
@@ -83,6 +86,13 @@ def stage_bytes(items, rigid, rolling):
     # per particle: row and reverse starts, force and torque read and written; per candidate:
     # reverse index, force read twice, both torques.
     out["gather"] = 104 + c * (4 + 48 + 48)
+    if not cached_gathers:  # partner rows read per pair: x r (box tests: + q shape turned)
+        if rigid:
+            s_ = items["superquadric_candidates"]
+            out["superquadric box tests"] += s_ * 76
+            out["superquadric contacts"] += items["evaluations"] * 60 + t * 60
+        else:
+            out["sphere contacts"] += c * 32 + t * 60
     return out
 
 
@@ -145,12 +155,12 @@ def model_stage(stage, rigid):
     return stage
 
 
-def predict_step(scene, gpu, efficiency, rigid, rolling=False):
+def predict_step(scene, gpu, efficiency, rigid, rolling=False, cached_gathers=True):
     """Seconds per particle-step per stage at large N (no launch latency), and the limiting
     resource of each stage."""
     bandwidth, peak = GPUS[gpu]
     items = items_of(scene)
-    bytes_ = stage_bytes(items, rigid, rolling)
+    bytes_ = stage_bytes(items, rigid, rolling, cached_gathers)
     flops = {}
     for stage, cost in scene["stages"].items():
         f = cost["fp64_per_particle_step"]
@@ -232,10 +242,13 @@ def main():
             rigid = name != "spheres"
             stages, items = predict_step(scene, gpu, efficiency, rigid)
             limiting = max(stages, key=lambda s: stages[s]["seconds_per_particle_step"])
+            uncached, _ = predict_step(scene, gpu, efficiency, rigid, cached_gathers=False)
             result["large_n"][gpu][name] = {
                 "particles": args.particles,
                 "particle_steps_per_second": throughput(stages, args.particles,
                                                         scene["kernel_launches_per_step"]),
+                "particle_steps_per_second_uncached_gathers": throughput(
+                    uncached, args.particles, scene["kernel_launches_per_step"]),
                 "limiting_stage": limiting,
                 "limiting_resource": stages[limiting]["limit"],
                 "items_per_particle_step": items,
@@ -255,8 +268,9 @@ def main():
     print(f"SIMT efficiency of the narrow phase: {efficiency:.2f}")
     for gpu, by_scene in result["large_n"].items():
         for name, r in by_scene.items():
-            print(f"{gpu:16s} {name:8s} {r['particle_steps_per_second']:.3g} particle-steps/s "
-                  f"(limit: {r['limiting_stage']}, {r['limiting_resource']})")
+            print(f"{gpu:16s} {name:10s} {r['particle_steps_per_second']:.3g} particle-steps/s "
+                  f"({r['particle_steps_per_second_uncached_gathers']:.3g} uncached; largest "
+                  f"stage: {r['limiting_stage']}, {r['limiting_resource']})")
     for row in result["hopper"].get("Quadro GV100", []):
         book = row["book_seconds"]
         print(f"GV100 hopper {row['shape']:8s} N={row['count']:6d}: predicted "
