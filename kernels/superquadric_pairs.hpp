@@ -11,6 +11,7 @@
 // Forces are stored per pair like sphere pairs and gathered by gather_pair_forces.
 #include "../shapes/superquadric_contact.hpp"
 #include "../shapes/superquadric_properties.hpp"
+#include "launch.hpp"
 #include "pair_forces.hpp"
 #include "shape_table.hpp"
 
@@ -21,31 +22,64 @@ struct SuperquadricContactSettings {
   NarrowPhaseControls newton;
   double curvature_limit = 2;
   bool separation_certificates = true; // see SeparationCertificates
+  bool compact_candidates = true;      // see superquadric_pairs_in_reach
+  int team_size = 0;                   // of the narrow-phase kernel, see reduce_over_items
 };
 
-// Counts of one step's superquadric narrow-phase evaluations (integers: the sums do not
-// depend on the order of the atomic additions).
+// Sums over narrow-phase evaluations, reduced over a kernel's pairs rather than counted with
+// atomics: on a GPU thousands of lanes adding to one address would serialise. Integers, so the
+// sums do not depend on the order of the reduction.
+struct NarrowPhaseTally {
+  std::int64_t evaluations = 0, iterations = 0, fallbacks = 0, failures = 0;
+
+  KOKKOS_INLINE_FUNCTION void add(const NarrowPhaseResult& r) {
+    ++evaluations;
+    iterations += r.iterations;
+    fallbacks += r.status == 1 ? 1 : 0;
+    failures += r.status == 2 ? 1 : 0;
+  }
+  KOKKOS_INLINE_FUNCTION NarrowPhaseTally& operator+=(const NarrowPhaseTally& o) {
+    evaluations += o.evaluations;
+    iterations += o.iterations;
+    fallbacks += o.fallbacks;
+    failures += o.failures;
+    return *this;
+  }
+  KOKKOS_INLINE_FUNCTION void operator+=(const volatile NarrowPhaseTally& o) volatile {
+    evaluations += o.evaluations;
+    iterations += o.iterations;
+    fallbacks += o.fallbacks;
+    failures += o.failures;
+  }
+};
+
+} // namespace kdem
+
+namespace Kokkos {
+template <> struct reduction_identity<kdem::NarrowPhaseTally> {
+  KOKKOS_FORCEINLINE_FUNCTION static kdem::NarrowPhaseTally sum() { return {}; }
+};
+} // namespace Kokkos
+
+namespace kdem {
+
+// Running totals of the superquadric narrow-phase evaluations, kept in the engine's memory: each
+// kernel reduces its own tally into `kernel_tally` (no host wait) and a one-lane kernel adds it.
 struct NarrowPhaseCounters {
-  DeviceView<std::int64_t[4]> values; // evaluations, iterations, fallbacks, failures
-  NarrowPhaseCounters() : values("narrow_phase_counters") {}
-};
+  DeviceView<NarrowPhaseTally> totals;
+  DeviceView<NarrowPhaseTally> kernel_tally;
+  NarrowPhaseCounters() : totals("narrow_phase_totals"), kernel_tally("narrow_phase_tally") {}
 
-enum NarrowPhaseCounter : int {
-  counted_evaluations = 0,
-  counted_iterations = 1,
-  counted_fallbacks = 2,
-  counted_failures = 3
+  Kokkos::Sum<NarrowPhaseTally, MemSpace> reducer() const {
+    return Kokkos::Sum<NarrowPhaseTally, MemSpace>(kernel_tally);
+  }
+  void add_kernel_tally() const {
+    auto sum = totals;
+    auto part = kernel_tally;
+    Kokkos::parallel_for(
+        "kdem::narrow_phase_tally", RangePolicy(0, 1), KOKKOS_LAMBDA(int) { sum() += part(); });
+  }
 };
-
-KOKKOS_INLINE_FUNCTION void count_evaluation(const DeviceView<std::int64_t[4]>& counters,
-                                             const NarrowPhaseResult& r) {
-  Kokkos::atomic_add(&counters(counted_evaluations), std::int64_t(1));
-  Kokkos::atomic_add(&counters(counted_iterations), std::int64_t(r.iterations));
-  if (r.status == 1)
-    Kokkos::atomic_add(&counters(counted_fallbacks), std::int64_t(1));
-  if (r.status == 2)
-    Kokkos::atomic_add(&counters(counted_failures), std::int64_t(1));
-}
 
 // Hertz radius from the surface curvatures at the contact (the "mean curvature" variant of
 // Podlozhnyuk et al., Comput. Part. Mech. 4 (2017) 101): R* = 1 / (kappa_i + kappa_j), kept
@@ -116,12 +150,25 @@ struct SeparationCertificates {
   KOKKOS_INLINE_FUNCTION void revoke(int k) const { margin(k) = 0; }
 };
 
+// The superquadric pairs the narrow phase evaluates this step: rows(s) for s < count, except
+// those with passes(s) == 0 when the list was not compacted.
+struct PairsToEvaluate {
+  IndexView rows;
+  IndexView passes;
+  int count = 0;
+  bool compacted = true;
+
+  KOKKOS_INLINE_FUNCTION bool skipped(int s) const { return !compacted && passes(s) == 0; }
+};
+
 // Superquadric pairs that pass the exact bounding-sphere test, hold no valid separation
-// certificate and pass the oriented-box test, as rows
-// of the pair list; the pairs that fail have their contact cleared and their warm start dropped.
-inline IndexView superquadric_pairs_in_reach(const ParticleViews& p, const ShapeTable& shapes,
-                                             PairList& list, const FamilyLists& families,
-                                             bool use_certificates, int& survivors) {
+// certificate and pass the oriented-box test, as rows of the pair list; the pairs that fail
+// have their contact cleared and their warm start dropped. With `compact` the survivors are
+// gathered by a scan, so that no lane of the narrow-phase kernel idles on a rejected pair;
+// without, that kernel runs over every candidate and skips the rejected ones.
+inline PairsToEvaluate superquadric_pairs_in_reach(const ParticleViews& p, const ShapeTable& shapes,
+                                                   PairList& list, const FamilyLists& families,
+                                                   bool use_certificates, bool compact) {
   const int candidates = families.superquadric_pair_count;
   auto passes = families.superquadric_pair_passes;
   auto pairs_left = families.superquadric_pairs_left;
@@ -156,7 +203,9 @@ inline IndexView superquadric_pairs_in_reach(const ParticleViews& p, const Shape
           certificates.revoke(k);
         }
       });
-  survivors = 0;
+  if (!compact)
+    return PairsToEvaluate{rows, passes, candidates, false};
+  int survivors = 0;
   Kokkos::parallel_scan(
       "kdem::superquadric_pair_compact", RangePolicy(0, candidates),
       KOKKOS_LAMBDA(int m, int& running, bool final) {
@@ -167,10 +216,10 @@ inline IndexView superquadric_pairs_in_reach(const ParticleViews& p, const Shape
         ++running;
       },
       survivors);
-  return pairs_left;
+  return PairsToEvaluate{pairs_left, passes, survivors, true};
 }
 
-// What the superquadric pair kernels share: the warm starts they read and write, the counters,
+// What the superquadric pair kernels share: the warm starts they read and write, the tally,
 // and how a narrow-phase result becomes the pair's force.
 template <bool RollingResistance> struct SuperquadricPairKernel {
   ParticleViews p;
@@ -178,7 +227,6 @@ template <bool RollingResistance> struct SuperquadricPairKernel {
   PairSlots slots;
   Vec3View point;
   ScalarView multiplier;
-  DeviceView<std::int64_t[4]> counts;
   SeparationCertificates certificates;
   CoefficientTable table;
   NarrowPhaseControls controls;
@@ -187,10 +235,9 @@ template <bool RollingResistance> struct SuperquadricPairKernel {
 
   SuperquadricPairKernel(const ParticleViews& p_, const ShapeTable& shapes_, const PairList& list,
                          const CoefficientTable& table_,
-                         const SuperquadricContactSettings& settings,
-                         const NarrowPhaseCounters& counters, double dt_)
+                         const SuperquadricContactSettings& settings, double dt_)
       : p(p_), shapes(shapes_), slots(list), point(list.midway_point),
-        multiplier(list.midway_multiplier), counts(counters.values),
+        multiplier(list.midway_multiplier),
         certificates(p_, list, settings.separation_certificates), table(table_),
         controls(settings.newton), limit(settings.curvature_limit), dt(dt_) {}
 
@@ -210,8 +257,8 @@ template <bool RollingResistance> struct SuperquadricPairKernel {
   // Counts the evaluation, keeps its warm start and applies (or clears) the contact; `normal`
   // is the result's normal turned to point from j towards i of the stored pair.
   KOKKOS_INLINE_FUNCTION void record(int k, int i, int j, const NarrowPhaseResult& r,
-                                     double normal_sign) const {
-    count_evaluation(counts, r);
+                                     double normal_sign, NarrowPhaseTally& tally) const {
+    tally.add(r);
     store3(point, k, r.state.point - centres_midpoint(i, j));
     multiplier(k) = r.state.multiplier;
     certificates.issue(k, i, j, r.separation);
@@ -236,20 +283,23 @@ void compute_superquadric_pair_forces(const ParticleViews& p, const ShapeTable& 
                                       const NarrowPhaseCounters& counters, double dt) {
   if (families.superquadric_pair_count == 0)
     return;
-  int survivors = 0;
-  const IndexView rows = superquadric_pairs_in_reach(p, shapes, list, families,
-                                                     settings.separation_certificates, survivors);
+  const PairsToEvaluate todo = superquadric_pairs_in_reach(
+      p, shapes, list, families, settings.separation_certificates, settings.compact_candidates);
   auto pair_i = list.pair_i, pair_j = list.pair_j;
-  const SuperquadricPairKernel<RollingResistance> kernel(p, shapes, list, table, settings, counters,
-                                                         dt);
-  Kokkos::parallel_for(
-      "kdem::superquadric_pair_forces", RangePolicy(0, survivors), KOKKOS_LAMBDA(int s) {
-        const int k = rows(s), i = pair_i(k), j = pair_j(k);
+  const SuperquadricPairKernel<RollingResistance> kernel(p, shapes, list, table, settings, dt);
+  reduce_over_items<NarrowPhaseTally>(
+      "kdem::superquadric_pair_forces", todo.count, settings.team_size,
+      KOKKOS_LAMBDA(int s, NarrowPhaseTally& tally) {
+        if (todo.skipped(s))
+          return;
+        const int k = todo.rows(s), i = pair_i(k), j = pair_j(k);
         const NarrowPhaseResult r = superquadric_pair_contact(
             posed_particle(kernel.shapes, kernel.p, i), posed_particle(kernel.shapes, kernel.p, j),
             kernel.warm_start(k, i, j), kernel.controls);
-        kernel.record(k, i, j, r, 1.0);
-      });
+        kernel.record(k, i, j, r, 1.0, tally);
+      },
+      counters.reducer());
+  counters.add_kernel_tally();
 }
 
 // The sphere is body i of the narrow phase; pairs stored with the superquadric first get the
@@ -264,11 +314,10 @@ void compute_sphere_superquadric_forces(const ParticleViews& p, const ShapeTable
     return;
   auto rows = families.mixed_pairs;
   auto pair_i = list.pair_i, pair_j = list.pair_j;
-  const SuperquadricPairKernel<RollingResistance> kernel(p, shapes, list, table, settings, counters,
-                                                         dt);
-  Kokkos::parallel_for(
-      "kdem::sphere_superquadric_forces", RangePolicy(0, families.mixed_pair_count),
-      KOKKOS_LAMBDA(int m) {
+  const SuperquadricPairKernel<RollingResistance> kernel(p, shapes, list, table, settings, dt);
+  reduce_over_items<NarrowPhaseTally>(
+      "kdem::sphere_superquadric_forces", families.mixed_pair_count, settings.team_size,
+      KOKKOS_LAMBDA(int m, NarrowPhaseTally& tally) {
         const int k = rows(m), i = pair_i(k), j = pair_j(k);
         const bool sphere_first = !is_superquadric(p.shape(i));
         const int sphere = sphere_first ? i : j, body = sphere_first ? j : i;
@@ -284,8 +333,10 @@ void compute_sphere_superquadric_forces(const ParticleViews& p, const ShapeTable
         const NarrowPhaseResult r = sphere_superquadric_contact(
             load3(p.position, sphere), p.radius(sphere), posed_particle(shapes, p, body),
             kernel.warm_start(k, i, j), kernel.controls);
-        kernel.record(k, i, j, r, sphere_first ? 1.0 : -1.0);
-      });
+        kernel.record(k, i, j, r, sphere_first ? 1.0 : -1.0, tally);
+      },
+      counters.reducer());
+  counters.add_kernel_tally();
 }
 
 } // namespace kdem

@@ -1,11 +1,17 @@
-// Sphere throughput benchmark: a settled bed of N spheres (r = 1 mm +- 10 %) in a box under
-// gravity, Hertz-Mindlin with tangential history and Coulomb friction, no rolling resistance.
+// Throughput benchmark: a settled bed of N particles in a box under gravity, Hertz-Mindlin with
+// tangential history and Coulomb friction, no rolling resistance. --shape picks the particles:
+// spheres (r = 1 mm +- 10 %, the default), or superquadrics of the volume of a 1 mm sphere:
+// ellipsoids (a = b, c = 2a), cylinders (n1 = 8, n2 = 2, a = b = c) or cubes (n1 = n2 = 8).
 //
 //   kdem_bench_openmp --n N --steps M --repeat R [--warmup W] [--out FILE.json]
-//                     [--cache-dir DIR] [--write-data FILE.data] [--rebuild-every-step]
-//                     [--kokkos-threads=T]
+//                     [--shape sphere|ellipsoid|cylinder|cube] [--cache-dir DIR]
+//                     [--write-data FILE.data] [--rebuild-every-step] [--kokkos-threads=T]
 //
-// The bed is built from one settled tile of 1000 spheres (20 mm x 20 mm footprint, about ten
+// After the timed repeats, one more run of M steps with every kernel fenced and timed by label
+// gives the time per kernel (`kernels` in the JSON), and the bytes the engine allocated in its
+// memory space are counted from its construction on (`memory`).
+//
+// The bed is built from one settled tile of 1000 particles (20 mm x 20 mm footprint, about ten
 // diameters deep), settled once with this engine and cached as text in --cache-dir. N spheres
 // are laid out as kx x ky copies of the tile, every other copy mirrored, so that two copies meet
 // face to face exactly as the tile met its side wall: the composite is in equilibrium from the
@@ -24,13 +30,16 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "kernels/types.hpp"
+#include "shapes/superquadric_properties.hpp"
 #include "src/engine.hpp"
+#include "src/kernel_timer.hpp"
 #include "src/scene.hpp"
 
 namespace {
@@ -55,6 +64,35 @@ struct BenchParameters {
   std::uint64_t seed = 1;
 };
 
+// A benchmark particle shape: a superquadric of the volume of a sphere of mean_radius, with
+// c = aspect x a (a = b); "sphere" is the polydisperse sphere bed.
+struct BenchShape {
+  std::string name = "sphere";
+  double aspect = 1, n1 = 2, n2 = 2;
+  bool is_sphere() const { return name == "sphere"; }
+};
+
+BenchShape bench_shape(const std::string& name) {
+  if (name == "sphere")
+    return {};
+  if (name == "ellipsoid")
+    return {name, 2, 2, 2};
+  if (name == "cylinder")
+    return {name, 1, 8, 2};
+  if (name == "cube")
+    return {name, 1, 8, 8};
+  throw std::runtime_error("--shape must be sphere, ellipsoid, cylinder or cube, not '" + name +
+                           "'");
+}
+
+// Semi-axes (a, a, aspect a) of the shape with the volume of a sphere of radius r.
+kdem::Vec3d half_axes_of(const BenchShape& shape, double r) {
+  const double unit =
+      kdem::superquadric_volume(kdem::make_superquadric(1, 1, shape.aspect, shape.n1, shape.n2));
+  const double a = std::cbrt(4.0 / 3.0 * M_PI * r * r * r / unit);
+  return {a, a, shape.aspect * a};
+}
+
 struct Options {
   long long n = 1000;
   long long steps = 1000;
@@ -64,10 +102,13 @@ struct Options {
   std::string cache_dir = "perf/cache";
   std::string write_data;
   bool rebuild_every_step = false;
+  BenchShape shape;
 };
 
+// One particle of a bed: centre, radius (spheres) and orientation (w, x, y, z).
 struct Sphere {
   double x, y, z, r;
+  double q[4] = {1, 0, 0, 0};
 };
 
 struct Bed {
@@ -79,8 +120,8 @@ struct Bed {
 
 const char* usage =
     "usage: kdem_bench_<backend> --n N --steps M --repeat R [--warmup W] [--out FILE.json]\n"
-    "                            [--cache-dir DIR] [--write-data FILE.data] "
-    "[--rebuild-every-step]\n"
+    "                            [--shape sphere|ellipsoid|cylinder|cube] [--cache-dir DIR]\n"
+    "                            [--write-data FILE.data] [--rebuild-every-step]\n"
     "Kokkos options (e.g. --kokkos-threads=2) are passed to Kokkos.\n";
 
 Options parse(int argc, char** argv) {
@@ -112,6 +153,8 @@ Options parse(int argc, char** argv) {
       o.write_data = value();
     else if (w == "--rebuild-every-step")
       o.rebuild_every_step = true;
+    else if (w == "--shape")
+      o.shape = bench_shape(value());
     else if (w == "-h" || w == "--help") {
       std::fputs(usage, stdout);
       std::exit(0);
@@ -120,6 +163,8 @@ Options parse(int argc, char** argv) {
   }
   if (o.n < 1 || o.steps < 0 || o.repeat < 0 || o.warmup < 0)
     throw std::runtime_error("--n must be positive; --steps, --repeat, --warmup not negative");
+  if (!o.write_data.empty() && !o.shape.is_sphere())
+    throw std::runtime_error("--write-data writes sphere beds only (LIGGGHTS granular atoms)");
   return o;
 }
 
@@ -146,8 +191,17 @@ kdem::WallConfig box_walls(const BenchParameters& p, const double lo[3], const d
   return w;
 }
 
-kdem::SceneConfig base_scene(const BenchParameters& p, const double lo[3], const double hi[3]) {
+kdem::SceneConfig base_scene(const BenchParameters& p, const BenchShape& shape, const double lo[3],
+                             const double hi[3]) {
   kdem::SceneConfig scene;
+  if (!shape.is_sphere()) {
+    kdem::ShapeConfig config;
+    config.name = shape.name;
+    config.half_axes = half_axes_of(shape, p.mean_radius);
+    config.n1 = shape.n1;
+    config.n2 = shape.n2;
+    scene.shapes = {config};
+  }
   scene.source_file = "bench_spheres";
   scene.gravity = {0, 0, -p.gravity};
   scene.time_step = p.time_step;
@@ -161,18 +215,32 @@ kdem::SceneConfig base_scene(const BenchParameters& p, const double lo[3], const
   return scene;
 }
 
-std::string tile_cache_name(const BenchParameters& p) {
+std::string tile_cache_name(const BenchParameters& p, const BenchShape& shape) {
   std::ostringstream name;
-  name << "sphere_tile_v1_n" << p.tile_count << "_seed" << p.seed << "_E" << p.youngs << "_dt"
-       << p.time_step << ".txt";
+  if (shape.is_sphere())
+    name << "sphere_tile_v1";
+  else
+    name << shape.name << "_tile_v1_aspect" << shape.aspect << "_n" << shape.n1 << "_" << shape.n2;
+  name << "_n" << p.tile_count << "_seed" << p.seed << "_E" << p.youngs << "_dt" << p.time_step
+       << ".txt";
   return name.str();
 }
 
-// Pours the tile's spheres from a loose random placement into a box and lets them settle.
-std::vector<Sphere> settle_tile(const BenchParameters& p) {
-  const double pour_height = 0.05, domain_height = 0.06;
+// Pours the tile's particles from a loose random placement into a box and lets them settle.
+// Superquadrics are placed by their bounding spheres, so they are poured from higher up: the
+// region holds the bounding spheres at a solid fraction of 0.2.
+std::vector<Sphere> settle_tile(const BenchParameters& p, const BenchShape& shape) {
+  double pour_height = 0.05;
+  if (!shape.is_sphere()) {
+    const kdem::Vec3d axes = half_axes_of(shape, p.mean_radius);
+    const double bounding = kdem::superquadric_bounding_radius(
+        kdem::make_superquadric(axes[0], axes[1], axes[2], shape.n1, shape.n2));
+    const double placed = p.tile_count * 4.0 / 3.0 * M_PI * std::pow(bounding, 3);
+    pour_height = std::max(pour_height, placed / 0.2 / (p.tile_size * p.tile_size));
+  }
+  const double domain_height = pour_height + 0.01;
   const double lo[3] = {0, 0, 0}, hi[3] = {p.tile_size, p.tile_size, domain_height};
-  kdem::SceneConfig scene = base_scene(p, lo, hi);
+  kdem::SceneConfig scene = base_scene(p, shape, lo, hi);
   kdem::ParticleSourceConfig source;
   source.name = "tile";
   source.material = scene.materials[0].name;
@@ -184,6 +252,14 @@ std::vector<Sphere> settle_tile(const BenchParameters& p) {
   source.region.max = {p.tile_size, p.tile_size, pour_height};
   source.count = p.tile_count;
   source.seed = p.seed;
+  if (!shape.is_sphere()) {
+    source.shape = shape.name;
+    source.random_orientation = true;
+    source.sizes = kdem::SizeDistributionConfig{};
+    source.sizes.kind = kdem::SizeDistributionConfig::Kind::Monodisperse;
+    const kdem::Vec3d axes = half_axes_of(shape, p.mean_radius);
+    source.sizes.radius = std::min({axes[0], axes[1], axes[2]});
+  }
   scene.sources = {source};
   kdem::Engine engine(scene);
 
@@ -207,14 +283,18 @@ std::vector<Sphere> settle_tile(const BenchParameters& p) {
   }
   const kdem::ParticleSnapshot snap = engine.snapshot();
   std::vector<Sphere> spheres(snap.size());
-  for (std::size_t i = 0; i < snap.size(); ++i)
+  for (std::size_t i = 0; i < snap.size(); ++i) {
     spheres[i] = {snap.position[3 * i], snap.position[3 * i + 1], snap.position[3 * i + 2],
                   snap.radius[i]};
+    for (int c = 0; c < 4; ++c)
+      spheres[i].q[c] = snap.quaternion[4 * i + c];
+  }
   return spheres;
 }
 
-std::vector<Sphere> load_or_settle_tile(const BenchParameters& p, const std::string& cache_dir) {
-  const fs::path path = fs::path(cache_dir) / tile_cache_name(p);
+std::vector<Sphere> load_or_settle_tile(const BenchParameters& p, const BenchShape& shape,
+                                        const std::string& cache_dir) {
+  const fs::path path = fs::path(cache_dir) / tile_cache_name(p, shape);
   std::vector<Sphere> spheres;
   if (std::ifstream in{path}; in) {
     std::string line;
@@ -223,8 +303,12 @@ std::vector<Sphere> load_or_settle_tile(const BenchParameters& p, const std::str
         continue;
       Sphere s;
       std::istringstream row(line);
-      if (row >> s.x >> s.y >> s.z >> s.r)
-        spheres.push_back(s);
+      if (!(row >> s.x >> s.y >> s.z >> s.r))
+        continue;
+      double q[4];
+      if (row >> q[0] >> q[1] >> q[2] >> q[3]) // orientation (tiles of superquadrics)
+        std::copy(q, q + 4, s.q);
+      spheres.push_back(s);
     }
     if (int(spheres.size()) == p.tile_count) {
       std::fprintf(stderr, "[bench] settled tile loaded from %s\n", path.string().c_str());
@@ -232,16 +316,17 @@ std::vector<Sphere> load_or_settle_tile(const BenchParameters& p, const std::str
     }
     std::fprintf(stderr, "[bench] ignoring incomplete cache %s\n", path.string().c_str());
   }
-  spheres = settle_tile(p);
+  spheres = settle_tile(p, shape);
   fs::create_directories(path.parent_path().empty() ? fs::path(".") : path.parent_path());
   const fs::path partial = path.string() + ".part";
   {
     std::ofstream out(partial);
-    out << "# settled tile of " << spheres.size() << " spheres in a " << p.tile_size
-        << " m box: x y z r (m)\n";
+    out << "# settled tile of " << spheres.size() << " " << shape.name << "s in a " << p.tile_size
+        << " m box: x y z r (m) qw qx qy qz\n";
     out.precision(17);
     for (const Sphere& s : spheres)
-      out << s.x << ' ' << s.y << ' ' << s.z << ' ' << s.r << '\n';
+      out << s.x << ' ' << s.y << ' ' << s.z << ' ' << s.r << ' ' << s.q[0] << ' ' << s.q[1] << ' '
+          << s.q[2] << ' ' << s.q[3] << '\n';
   }
   fs::rename(partial, path);
   std::fprintf(stderr, "[bench] settled tile cached in %s\n", path.string().c_str());
@@ -271,6 +356,15 @@ Bed make_bed(const BenchParameters& p, const std::vector<Sphere>& tile, long lon
         Sphere c = s;
         c.x = tx * L + (tx % 2 == 1 ? L - s.x : s.x);
         c.y = ty * L + (ty % 2 == 1 ? L - s.y : s.y);
+        // Mirroring x turns a body symmetric about its own axes by M R M: q -> (w, x, -y, -z).
+        if (tx % 2 == 1) {
+          c.q[2] = -c.q[2];
+          c.q[3] = -c.q[3];
+        }
+        if (ty % 2 == 1) {
+          c.q[1] = -c.q[1];
+          c.q[3] = -c.q[3];
+        }
         bed.spheres.push_back(c);
       }
   if (static_cast<long long>(bed.spheres.size()) > n) {
@@ -332,24 +426,32 @@ std::string json_number(double x) {
 
 int run(const Options& o) {
   const BenchParameters p;
-  const std::vector<Sphere> tile = load_or_settle_tile(p, o.cache_dir);
+  const std::vector<Sphere> tile = load_or_settle_tile(p, o.shape, o.cache_dir);
   const Bed bed = make_bed(p, tile, o.n);
   if (!o.write_data.empty()) {
     write_liggghts_data(o.write_data, bed, p);
     std::fprintf(stderr, "[bench] wrote %s\n", o.write_data.c_str());
   }
 
-  kdem::Engine engine(base_scene(p, bed.lo, bed.hi));
+  // Bytes in the engine's memory space, counted from its construction to the end of warm-up.
+  auto memory = std::make_optional<kdem::KernelTimer>(false);
+  kdem::Engine engine(base_scene(p, o.shape, bed.lo, bed.hi));
+  const int shape_id = o.shape.is_sphere() ? 0 : engine.shape_id(o.shape.name);
   std::vector<kdem::ParticleInit> inits(bed.spheres.size());
   for (std::size_t i = 0; i < bed.spheres.size(); ++i) {
     inits[i].position = {bed.spheres[i].x, bed.spheres[i].y, bed.spheres[i].z};
     inits[i].radius = bed.spheres[i].r;
+    inits[i].shape = shape_id;
+    std::copy(bed.spheres[i].q, bed.spheres[i].q + 4, inits[i].orientation.begin());
   }
   engine.add_particles(inits);
   engine.set_rebuild_every_step(o.rebuild_every_step);
 
   engine.advance(o.warmup);
   Kokkos::fence();
+  const double bytes = double(memory->bytes_allocated());
+  const double peak_bytes = double(memory->peak_bytes());
+  memory.reset(); // no callbacks during the timed runs
   const kdem::Diagnostics before = engine.diagnostics();
 
   std::vector<double> times;
@@ -365,8 +467,19 @@ int run(const Options& o) {
   const long long n = engine.particle_count();
   const double rate = median_s > 0 ? double(n) * double(o.steps) / median_s : 0.0;
 
+  // One more run with every kernel fenced and timed, for the split by kernel.
+  std::string kernels = "{}";
+  if (o.repeat > 0) {
+    kdem::KernelTimer timer(true);
+    engine.advance(o.steps);
+    Kokkos::fence();
+    kernels = timer.kernels_json();
+    std::replace(kernels.begin(), kernels.end(), '\n', ' '); // the record is one line
+  }
+
   std::ostringstream json;
-  json << "{\"code\": \"kdem\", \"backend\": \"" << kdem::Engine::backend_name() << "\""
+  json << "{\"code\": \"kdem\", \"shape\": \"" << o.shape.name << "\", \"backend\": \""
+       << kdem::Engine::backend_name() << "\""
        << ", \"threads\": " << kdem::Engine::backend_concurrency() << ", \"n\": " << n
        << ", \"steps\": " << o.steps << ", \"repeat\": " << o.repeat << ", \"warmup\": " << o.warmup
        << ", \"rebuild_every_step\": " << (o.rebuild_every_step ? "true" : "false")
@@ -395,7 +508,9 @@ int run(const Options& o) {
        << ", \"radius_spread\": " << json_number(p.radius_spread)
        << ", \"time_step\": " << json_number(p.time_step) << ", \"skin\": " << json_number(p.skin)
        << ", \"gravity\": " << json_number(p.gravity) << "}"
-       << ", \"git\": \"" << KDEM_GIT_HASH << "\"}";
+       << ", \"memory\": {\"bytes_per_particle\": " << json_number(n > 0 ? bytes / n : 0.0)
+       << ", \"peak_bytes_per_particle\": " << json_number(n > 0 ? peak_bytes / n : 0.0) << "}"
+       << ", \"kernels\": " << kernels << ", \"git\": \"" << KDEM_GIT_HASH << "\"}";
   std::cout << json.str() << std::endl;
   if (!o.out.empty()) {
     const fs::path target(o.out);

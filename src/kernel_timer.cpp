@@ -155,14 +155,20 @@ std::string KernelTimer::to_json(std::int64_t steps, std::int64_t particle_steps
       << ", \"bytes\": " << state.bytes << ", \"peak_bytes\": " << state.peak
       << ", \"bytes_per_particle\": "
       << json_number(particles > 0 ? double(state.bytes) / particles : 0.0)
-      << "},\n  \"kernels\": {";
+      << "},\n  \"kernels\": " << kernels_json() << "\n}\n";
+  return out.str();
+}
+
+std::string KernelTimer::kernels_json() const {
+  std::ostringstream out;
+  out << "{";
   const char* separator = "\n";
   for (const auto& [label, tally] : state.tallies) {
     out << separator << "    " << json_string(label) << ": {\"launches\": " << tally.launches
         << ", \"seconds\": " << json_number(tally.seconds) << "}";
     separator = ",\n";
   }
-  out << "\n  }\n}\n";
+  out << "\n  }";
   return out.str();
 }
 

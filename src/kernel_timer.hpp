@@ -31,6 +31,7 @@ public:
   std::int64_t peak_bytes() const;      // the most at any time since construction
   // {"kernels": {label: {"launches": n, "seconds": s}, ...}, "steps": steps, "memory": ...}
   std::string to_json(std::int64_t steps, std::int64_t particle_steps, int particles) const;
+  std::string kernels_json() const; // {label: {"launches": n, "seconds": s}, ...}
   void write_json(const std::filesystem::path& path, std::int64_t steps,
                   std::int64_t particle_steps, int particles) const;
 };

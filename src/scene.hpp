@@ -68,6 +68,8 @@ struct SuperquadricContactConfig {
   int max_iterations = 0;     // Newton iteration cap; 0: the engine's default
   double curvature_limit = 2; // R* from curvature is kept within [1/limit, limit] x R*_volume
   bool separation_certificates = true; // skip pairs whose gap bound outlasts their motion
+  bool compact_candidates = true;      // scan the box tests' survivors into a dense list
+  int team_size = 0;                   // lanes per team of the narrow-phase kernels; 0: flat
 };
 
 struct ParticleSourceConfig {

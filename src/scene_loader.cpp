@@ -719,8 +719,8 @@ const ShapeConfig& shape_named(const Value& value, const std::vector<ShapeConfig
 }
 
 SuperquadricContactConfig read_superquadric_contact(const Value& value) {
-  const Mapping map(value,
-                    {"tolerance", "max_iterations", "curvature_limit", "separation_certificates"});
+  const Mapping map(value, {"tolerance", "max_iterations", "curvature_limit",
+                            "separation_certificates", "compact_candidates", "team_size"});
   SuperquadricContactConfig config;
   if (auto value_found = map.find("tolerance"))
     config.tolerance = number_where(*value_found, "a Newton tolerance in (0, 1e-2]",
@@ -732,6 +732,10 @@ SuperquadricContactConfig read_superquadric_contact(const Value& value) {
         number_where(*value_found, "a factor >= 1", [](double f) { return f >= 1; });
   if (auto value_found = map.find("separation_certificates"))
     config.separation_certificates = boolean(*value_found);
+  if (auto value_found = map.find("compact_candidates"))
+    config.compact_candidates = boolean(*value_found);
+  if (auto value_found = map.find("team_size"))
+    config.team_size = int(whole_number(*value_found, 0));
   return config;
 }
 

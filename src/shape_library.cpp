@@ -53,6 +53,8 @@ void Engine::State::setup_shapes() {
   superquadric_settings.curvature_limit = scene.superquadric_contact.curvature_limit;
   superquadric_settings.separation_certificates =
       scene.superquadric_contact.separation_certificates;
+  superquadric_settings.compact_candidates = scene.superquadric_contact.compact_candidates;
+  superquadric_settings.team_size = scene.superquadric_contact.team_size;
   if (scene.superquadric_contact.tolerance > 0)
     superquadric_settings.newton.tolerance = scene.superquadric_contact.tolerance;
   if (scene.superquadric_contact.max_iterations > 0)
@@ -75,12 +77,12 @@ void Engine::State::classify_families() {
 }
 
 NarrowPhaseTotals Engine::narrow_phase_totals() const {
-  auto host = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), state_->narrow_phase.values);
+  auto host = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), state_->narrow_phase.totals);
   NarrowPhaseTotals totals;
-  totals.evaluations = host(counted_evaluations);
-  totals.iterations = host(counted_iterations);
-  totals.fallbacks = host(counted_fallbacks);
-  totals.failures = host(counted_failures);
+  totals.evaluations = host().evaluations;
+  totals.iterations = host().iterations;
+  totals.fallbacks = host().fallbacks;
+  totals.failures = host().failures;
   return totals;
 }
 

@@ -942,6 +942,18 @@ TEST(SceneShapes, SeparationCertificatesAreOnByDefaultAndCanBeTurnedOff) {
                          "expected true or false"));
 }
 
+TEST(SceneShapes, NarrowPhaseLayoutKeys) {
+  const SceneConfig defaults = load_text(minimal_scene());
+  EXPECT_TRUE(defaults.superquadric_contact.compact_candidates);
+  EXPECT_EQ(defaults.superquadric_contact.team_size, 0);
+  const SceneConfig scene = load_text(
+      minimal_scene_plus("superquadric_contact: {compact_candidates: false, team_size: 64}\n"));
+  EXPECT_FALSE(scene.superquadric_contact.compact_candidates);
+  EXPECT_EQ(scene.superquadric_contact.team_size, 64);
+  EXPECT_TRUE(fails_with(minimal_scene_plus("superquadric_contact: {team_size: -1}\n"), 14,
+                         "superquadric_contact.team_size", "expected"));
+}
+
 TEST(SceneOrientation, FixedOrientationIsNormalisedAndTurnsRandomOff) {
   const SceneConfig scene = load_text(
       minimal_scene_plus("    orientation: [2, 0, 0, 2]\n    angular_velocity: [0, 3, 0.5]\n"));

@@ -1,0 +1,144 @@
+#!/usr/bin/env python3
+"""CPU performance per shape and size: settled beds of spheres, ellipsoids, cylinders and cubes
+(perf/bench_spheres.cpp --shape) from N = 1e3 up, on Serial, OpenMP with 1 thread and OpenMP
+with 2 threads, in one session on one machine. Records particle-steps per second (median of
+the repeats), parallel efficiency, time per stage (the fenced run of each benchmark, grouped by
+perf/stages.py), bytes per particle in the engine's memory space, and time per step against N.
+
+    /usr/bin/python3 perf/bench_scaling.py                       # the full set
+    /usr/bin/python3 perf/bench_scaling.py --shapes sphere --sizes 1e3 1e4 --repeat 3
+
+Writes perf/results/bench_scaling.json and docs/img/bench_scaling.png.
+"""
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import run_bench  # noqa: E402
+import stages as step_stages  # noqa: E402
+
+ROOT = Path(__file__).resolve().parent.parent
+CONFIGS = [("Serial", "kdem_bench_serial", 1), ("OpenMP", "kdem_bench_openmp", 1),
+           ("OpenMP", "kdem_bench_openmp", 2)]
+DEFAULT_SIZES = {"sphere": [1e3, 1e4, 1e5, 1e6], "ellipsoid": [1e3, 1e4, 1e5],
+                 "cylinder": [1e3, 1e4, 1e5], "cube": [1e3, 1e4, 1e5]}
+# Work per timed run (particle-steps): spheres run ~8e6 per second and thread, superquadrics
+# ~6e5, so that each timed run lasts a few seconds.
+WORK = {"sphere": 2e7, "ellipsoid": 2e6, "cylinder": 2e6, "cube": 2e6}
+
+
+def run_config(bin_dir, binary, threads, shape, n, args):
+    steps = max(20, int(round(WORK[shape] * args.work_scale / n)))
+    warmup = max(20, steps // 2)
+
+    def once():
+        command = [str(bin_dir / binary), "--n", str(int(n)), "--steps", str(steps), "--warmup",
+                   str(warmup), "--repeat", str(args.repeat), "--shape", shape, "--cache-dir",
+                   str(ROOT / "perf" / "cache"), f"--kokkos-threads={threads}"]
+        result, wall, cpu, foreign = run_bench.run_measured(command, env=run_bench.kdem_env(threads),
+                                                            cwd=ROOT)
+        if result.returncode != 0:
+            raise RuntimeError(f"{' '.join(command)} failed:\n{result.stderr[-3000:]}")
+        record = json.loads(result.stdout.strip().splitlines()[-1])
+        record.update({"wall_s": round(wall, 2), "cpu_s": round(cpu, 2),
+                       "foreign_cpu_s": None if foreign is None else round(foreign, 2),
+                       "workers": threads})
+        return record
+
+    return run_bench.measured_run(once, args)
+
+
+def stage_split(record):
+    stages = step_stages.kernel_stages({"kernels": record["kernels"]})
+    steps = record["steps"]
+    return {s: t["seconds"] / steps for s, t in stages.items()}
+
+
+def plot(results, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    shapes = sorted({r["shape"] for r in results}, key=list(DEFAULT_SIZES).index)
+    fig, axes = plt.subplots(1, 3, figsize=(16, 4.8))
+    for shape in shapes:
+        for backend, _, threads in CONFIGS:
+            rows = sorted((r for r in results if r["shape"] == shape and r["backend"] == backend
+                           and r["threads"] == threads), key=lambda r: r["n"])
+            if not rows:
+                continue
+            label = f"{shape}, {backend} {threads}"
+            axes[0].loglog([r["n"] for r in rows], [r["particle_steps_per_s"] for r in rows],
+                           "o-", label=label)
+            axes[1].loglog([r["n"] for r in rows], [r["median_s"] / r["steps"] for r in rows],
+                           "o-", label=label)
+    axes[0].set(xlabel="particles N", ylabel="particle-steps per second", title="throughput")
+    axes[1].set(xlabel="particles N", ylabel="seconds per step", title="time per step")
+    largest = {}
+    for r in results:
+        if r["backend"] == "OpenMP" and r["threads"] == 2:
+            if r["shape"] not in largest or r["n"] > largest[r["shape"]]["n"]:
+                largest[r["shape"]] = r
+    bottom = [0.0] * len(shapes)
+    names = sorted({s for r in largest.values() for s in stage_split(r)})
+    for stage in names:
+        heights = [stage_split(largest[s]).get(stage, 0.0) / largest[s]["n"] * 1e9
+                   if s in largest else 0.0 for s in shapes]
+        axes[2].bar(shapes, heights, bottom=bottom, label=stage)
+        bottom = [b + h for b, h in zip(bottom, heights)]
+    axes[2].set(ylabel="ns per particle-step (fenced kernels)",
+                title="stages at the largest N, OpenMP 2 threads")
+    axes[0].legend(fontsize=6)
+    axes[2].legend(fontsize=6)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=120)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--shapes", nargs="+", default=list(DEFAULT_SIZES))
+    parser.add_argument("--sizes", type=float, nargs="+", help="instead of the shape's default")
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--work-scale", type=float, default=1.0)
+    parser.add_argument("--quiet-wait", type=float, default=300)
+    parser.add_argument("--retries", type=int, default=2)
+    parser.add_argument("--foreign-limit", type=float, default=0.05)
+    parser.add_argument("--bin", default=str(ROOT / "build" / "openmp" / "bin"))
+    parser.add_argument("--out", default=str(ROOT / "perf" / "results" / "bench_scaling.json"))
+    parser.add_argument("--plot", default=str(ROOT / "docs" / "img" / "bench_scaling.png"))
+    args = parser.parse_args()
+    bin_dir = Path(args.bin)
+    results = []
+    for shape in args.shapes:
+        for n in args.sizes or DEFAULT_SIZES[shape]:
+            by_config = {}
+            for backend, binary, threads in CONFIGS:
+                record = run_config(bin_dir, binary, threads, shape, n, args)
+                record.update({"backend": backend, "threads": threads})
+                record["stage_seconds_per_step"] = stage_split(record)
+                results.append(record)
+                by_config[(backend, threads)] = record
+                run_bench.log(f"{shape} N={int(n)} {backend} {threads}: "
+                              f"{record['particle_steps_per_s']:.3g} particle-steps/s, "
+                              f"{record['memory']['bytes_per_particle']:.0f} B/particle")
+            one, two = by_config[("OpenMP", 1)], by_config[("OpenMP", 2)]
+            two["parallel_efficiency"] = two["particle_steps_per_s"] / (
+                2 * one["particle_steps_per_s"])
+    document = {"machine": run_bench.machine_info(), "repeat": args.repeat, "runs": results}
+    out = Path(args.out)
+    tmp = out.with_suffix(".json.tmp")
+    tmp.write_text(json.dumps(document, indent=2) + "\n")
+    tmp.replace(out)
+    plot(results, Path(args.plot))
+    for r in results:
+        if "parallel_efficiency" in r:
+            run_bench.log(f"{r['shape']} N={r['n']}: parallel efficiency "
+                          f"{r['parallel_efficiency']:.2f}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
