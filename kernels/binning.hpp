@@ -45,10 +45,22 @@ inline CellGrid make_cell_grid(const double lo[3], const double hi[3], double mi
   }
 }
 
-// Particles ordered by cell; `cell_start(c)..cell_start(c+1)` are the particles of cell c.
+// The particles in cell order: slots cell_start(c)..cell_start(c+1) hold the particles of cell
+// c. Normally the particle arrays themselves are permuted into that order, so slot = particle
+// row; with the sort switched off (for measuring what it gains) they stay where they are and
+// particle_in_slot / slot_of_particle map between the two.
 struct CellBins {
   CellGrid grid;
   IndexView cell_start; // cell_count + 1
+  bool in_cell_order = true;
+  IndexView particle_in_slot, slot_of_particle; // only when !in_cell_order
+
+  KOKKOS_INLINE_FUNCTION int particle(int slot) const {
+    return in_cell_order ? slot : particle_in_slot(slot);
+  }
+  KOKKOS_INLINE_FUNCTION int slot(int particle_row) const {
+    return in_cell_order ? particle_row : slot_of_particle(particle_row);
+  }
 };
 
 inline IndexView exclusive_scan_with_total(const IndexView& counts, int& total) {
@@ -69,8 +81,10 @@ inline IndexView exclusive_scan_with_total(const IndexView& counts, int& total) 
   return offsets;
 }
 
-// Sorts the particle arrays by cell and returns the bins of the sorted order.
-inline CellBins sort_particles_by_cell(ParticleViews& p, const CellGrid& grid) {
+// Sorts the particle arrays by cell and returns the bins of the sorted order; with
+// reorder = false the arrays keep their order and the bins carry the mapping instead.
+inline CellBins sort_particles_by_cell(ParticleViews& p, const CellGrid& grid,
+                                       bool reorder = true) {
   const int n = p.count;
   const int cells = grid.cell_count();
   auto cell_of_particle = uninitialized<IndexView>("cell_of_particle", n);
@@ -106,8 +120,15 @@ inline CellBins sort_particles_by_cell(ParticleViews& p, const CellGrid& grid) {
           order(b + 1) = moving;
         }
       });
-  permute_particles(p, order, n);
-  return CellBins{grid, cell_start};
+  if (reorder) {
+    permute_particles(p, order, n);
+    return CellBins{grid, cell_start};
+  }
+  auto slot_of = uninitialized<IndexView>("slot_of_particle", n);
+  Kokkos::parallel_for(
+      "kdem::bin_slots", RangePolicy(0, n),
+      KOKKOS_LAMBDA(int slot) { slot_of(order(slot)) = slot; });
+  return CellBins{grid, cell_start, false, order, slot_of};
 }
 
 } // namespace kdem

@@ -10,7 +10,7 @@ namespace kdem {
 
 struct PairList {
   int pair_count = 0;
-  IndexView row_start; // particle_count + 1: pairs (i, j > i) are owned by i
+  IndexView row_start; // particle_count + 1: pairs (i, j after i in cell order) are owned by i
   IndexView pair_i, pair_j;
   IdView partner_id;          // stable id of j, the key for history transfer
   IndexView reverse_start;    // particle_count + 1
@@ -58,12 +58,14 @@ template <class Visitor> void for_each_pair_list_field(Visitor&& visit) {
   visit("turned_j_at_separation", &PairList::turned_j_at_separation);
 }
 
-// Calls visit(j) for every particle j > i within reach of i, in a fixed order.
+// Calls visit(j) for every particle j after i in the cell order within reach of i, in a fixed
+// order.
 template <class Visit>
 KOKKOS_INLINE_FUNCTION void for_each_candidate(const CellBins& bins, const Vec3View& position,
                                                const ScalarView& radius, double skin, int i,
                                                Visit&& visit) {
   const Vec3 xi = load3(position, i);
+  const int slot_i = bins.slot(i);
   const CellGrid& g = bins.grid;
   const int c[3] = {g.coordinate(xi.x, 0), g.coordinate(xi.y, 1), g.coordinate(xi.z, 2)};
   for (int dz = -1; dz <= 1; ++dz) {
@@ -79,9 +81,10 @@ KOKKOS_INLINE_FUNCTION void for_each_candidate(const CellBins& bins, const Vec3V
         if (cx < 0 || cx >= g.dims[0])
           continue;
         const int cell = g.flat(cx, cy, cz);
-        // Half list: only partners after i in the cell-sorted order.
-        const int first = bins.cell_start(cell) > i ? bins.cell_start(cell) : i + 1;
-        for (int j = first; j < bins.cell_start(cell + 1); ++j) {
+        // Half list: only partners after i in the cell order.
+        const int first = bins.cell_start(cell) > slot_i ? bins.cell_start(cell) : slot_i + 1;
+        for (int slot = first; slot < bins.cell_start(cell + 1); ++slot) {
+          const int j = bins.particle(slot);
           const double reach = radius(i) + radius(j) + skin;
           if (norm2(load3(position, j) - xi) < reach * reach)
             visit(j);

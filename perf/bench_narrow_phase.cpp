@@ -41,6 +41,7 @@
 
 #include "kernels/types.hpp"
 #include "perf/narrow_phase_cases.hpp"
+#include "src/build_info.hpp"
 
 namespace {
 
@@ -443,7 +444,7 @@ std::string header_json(const Options& o) {
     << ", \"hardware_threads\": " << std::thread::hardware_concurrency()
     << ", \"repeat\": " << o.repeat << ", \"min_evaluations\": " << o.min_evaluations
     << ", \"seed\": " << o.seed << ", \"load_average_start\": " << number(o.load_at_start)
-    << ", \"load_average_end\": " << number(load_average()) << ", \"git\": \"" << KDEM_GIT_HASH
+    << ", \"load_average_end\": " << number(load_average()) << ", \"git\": \"" << kdem::git_hash()
     << "\"";
   return j.str();
 }

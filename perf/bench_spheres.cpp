@@ -5,7 +5,11 @@
 //
 //   kdem_bench_openmp --n N --steps M --repeat R [--warmup W] [--out FILE.json]
 //                     [--shape sphere|ellipsoid|cylinder|cube] [--cache-dir DIR]
-//                     [--write-data FILE.data] [--rebuild-every-step] [--kokkos-threads=T]
+//                     [--write-data FILE.data] [--rebuild-every-step] [--unsorted]
+//                     [--kokkos-threads=T]
+//
+// --unsorted gives the engine the particles in a shuffled order and switches its sort by cell
+// off (scene key sort_by_cell), for measuring what the sort gains.
 //
 // After the timed repeats, one more run of M steps with every kernel fenced and timed by label
 // gives the time per kernel (`kernels` in the JSON), and the bytes the engine allocated in its
@@ -31,6 +35,7 @@
 #include <fstream>
 #include <iostream>
 #include <optional>
+#include <random>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -38,6 +43,7 @@
 
 #include "kernels/types.hpp"
 #include "shapes/superquadric_properties.hpp"
+#include "src/build_info.hpp"
 #include "src/engine.hpp"
 #include "src/kernel_timer.hpp"
 #include "src/scene.hpp"
@@ -102,6 +108,7 @@ struct Options {
   std::string cache_dir = "perf/cache";
   std::string write_data;
   bool rebuild_every_step = false;
+  bool unsorted = false; // particles in a shuffled order, never sorted by cell
   BenchShape shape;
 };
 
@@ -121,7 +128,7 @@ struct Bed {
 const char* usage =
     "usage: kdem_bench_<backend> --n N --steps M --repeat R [--warmup W] [--out FILE.json]\n"
     "                            [--shape sphere|ellipsoid|cylinder|cube] [--cache-dir DIR]\n"
-    "                            [--write-data FILE.data] [--rebuild-every-step]\n"
+    "                            [--write-data FILE.data] [--rebuild-every-step] [--unsorted]\n"
     "Kokkos options (e.g. --kokkos-threads=2) are passed to Kokkos.\n";
 
 Options parse(int argc, char** argv) {
@@ -155,6 +162,8 @@ Options parse(int argc, char** argv) {
       o.rebuild_every_step = true;
     else if (w == "--shape")
       o.shape = bench_shape(value());
+    else if (w == "--unsorted")
+      o.unsorted = true;
     else if (w == "-h" || w == "--help") {
       std::fputs(usage, stdout);
       std::exit(0);
@@ -435,7 +444,9 @@ int run(const Options& o) {
 
   // Bytes in the engine's memory space, counted from its construction to the end of warm-up.
   auto memory = std::make_optional<kdem::KernelTimer>(false);
-  kdem::Engine engine(base_scene(p, o.shape, bed.lo, bed.hi));
+  kdem::SceneConfig scene = base_scene(p, o.shape, bed.lo, bed.hi);
+  scene.sort_by_cell = !o.unsorted;
+  kdem::Engine engine(scene);
   const int shape_id = o.shape.is_sphere() ? 0 : engine.shape_id(o.shape.name);
   std::vector<kdem::ParticleInit> inits(bed.spheres.size());
   for (std::size_t i = 0; i < bed.spheres.size(); ++i) {
@@ -444,6 +455,8 @@ int run(const Options& o) {
     inits[i].shape = shape_id;
     std::copy(bed.spheres[i].q, bed.spheres[i].q + 4, inits[i].orientation.begin());
   }
+  if (o.unsorted) // the order of a random pour: no locality in memory
+    std::shuffle(inits.begin(), inits.end(), std::mt19937_64(p.seed));
   engine.add_particles(inits);
   engine.set_rebuild_every_step(o.rebuild_every_step);
 
@@ -483,6 +496,7 @@ int run(const Options& o) {
        << ", \"threads\": " << kdem::Engine::backend_concurrency() << ", \"n\": " << n
        << ", \"steps\": " << o.steps << ", \"repeat\": " << o.repeat << ", \"warmup\": " << o.warmup
        << ", \"rebuild_every_step\": " << (o.rebuild_every_step ? "true" : "false")
+       << ", \"sorted_by_cell\": " << (o.unsorted ? "false" : "true")
        << ", \"median_s\": " << json_number(median_s) << ", \"times_s\": [";
   for (std::size_t k = 0; k < times.size(); ++k)
     json << (k ? ", " : "") << json_number(times[k]);
@@ -510,7 +524,7 @@ int run(const Options& o) {
        << ", \"gravity\": " << json_number(p.gravity) << "}"
        << ", \"memory\": {\"bytes_per_particle\": " << json_number(n > 0 ? bytes / n : 0.0)
        << ", \"peak_bytes_per_particle\": " << json_number(n > 0 ? peak_bytes / n : 0.0) << "}"
-       << ", \"kernels\": " << kernels << ", \"git\": \"" << KDEM_GIT_HASH << "\"}";
+       << ", \"kernels\": " << kernels << ", \"git\": \"" << kdem::git_hash() << "\"}";
   std::cout << json.str() << std::endl;
   if (!o.out.empty()) {
     const fs::path target(o.out);

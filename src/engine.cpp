@@ -399,7 +399,7 @@ void Engine::State::rebuild_lists() {
   if (!(cell_size > 0) || !std::isfinite(cell_size))
     cell_size = std::max(hi[0] - lo[0], 1e-3);
   const CellGrid grid = make_cell_grid(lo, hi, cell_size, 8'000'000);
-  const CellBins bins = sort_particles_by_cell(particles, grid);
+  const CellBins bins = sort_particles_by_cell(particles, grid, scene.sort_by_cell);
   PairList fresh_pairs = build_pair_list(particles, bins, list_skin, has_superquadrics);
   if (pairs.pair_count > 0)
     transfer_pair_history(fresh_pairs, pairs, old_rows, particles.id);

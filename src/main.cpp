@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "../kernels/types.hpp"
+#include "build_info.hpp"
 #include "runner.hpp"
 
 namespace {
@@ -72,7 +73,7 @@ int main(int argc, char** argv) {
     args.ok = false;
   }
   if (args.ok && args.command == "--version") {
-    std::printf("kdem %s (%s)\n", KDEM_VERSION, KDEM_GIT_HASH);
+    std::printf("kdem %s (%s)\n", KDEM_VERSION, kdem::git_hash());
     return 0;
   }
   if (!args.ok || (args.command != "run" && args.command != "check") ||

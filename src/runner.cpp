@@ -8,6 +8,7 @@
 #include <optional>
 #include <sstream>
 
+#include "build_info.hpp"
 #include "engine.hpp"
 #include "kernel_timer.hpp"
 #include "progress.hpp"
@@ -180,7 +181,7 @@ RunSummary summarise(const Engine& engine, const OutputWriter& output, std::int6
                      double seconds, double particle_steps, double initial_energy) {
   RunSummary summary;
   summary.version = KDEM_VERSION;
-  summary.git_hash = KDEM_GIT_HASH;
+  summary.git_hash = git_hash();
   summary.backend = Engine::backend_name();
   summary.threads = Engine::backend_concurrency();
   const Diagnostics& d = output.last();

@@ -149,10 +149,11 @@ struct OutputConfig {
 struct SceneConfig {
   std::string source_file; // for messages
   Vec3d gravity{0, 0, -9.81};
-  double time_step = 0; // s
-  double duration = 0;  // s of simulated time
-  double skin = 0;      // m, Verlet skin; when the file has none, the loader sets
-                        // default_skin_per_radius x the smallest particle radius of the scene
+  double time_step = 0;     // s
+  double duration = 0;      // s of simulated time
+  double skin = 0;          // m, Verlet skin; when the file has none, the loader sets
+                            // default_skin_per_radius x the smallest particle radius of the scene
+  bool sort_by_cell = true; // permute particle arrays into cell order at list rebuilds
   bool has_domain = false;
   Vec3d domain_min{0, 0, 0}, domain_max{0, 0, 0}; // else derived from walls and regions
   std::vector<MaterialConfig> materials;

@@ -967,11 +967,9 @@ double default_skin(const SceneConfig& scene) {
   return default_skin_per_radius * smallest;
 }
 
-const KeyList scene_keys{"time_step",    "duration", "gravity",
-                         "skin",         "domain",   "materials",
-                         "interactions", "shapes",   "superquadric_contact",
-                         "particles",    "walls",    "outlets",
-                         "output"};
+const KeyList scene_keys{"time_step", "duration",  "gravity",      "skin",   "sort_by_cell",
+                         "domain",    "materials", "interactions", "shapes", "superquadric_contact",
+                         "particles", "walls",     "outlets",      "output"};
 
 SceneConfig read_scene(const Value& root) {
   const Mapping map(root, scene_keys);
@@ -995,6 +993,8 @@ SceneConfig read_scene(const Value& root) {
     scene.output = read_output(*value_found);
   const auto skin_value = map.find("skin");
   scene.skin = skin_value ? positive(*skin_value, "metres") : default_skin(scene);
+  if (auto value_found = map.find("sort_by_cell"))
+    scene.sort_by_cell = boolean(*value_found);
   return scene;
 }
 

@@ -481,11 +481,12 @@ TEST(SceneSyntaxErrors, TopLevelMustBeAMapping) {
 // ---- keys ---------------------------------------------------------------------------------------
 
 TEST(SceneKeyErrors, UnknownTopLevelKeyListsTheAllowedKeysAndSuggestsOne) {
-  EXPECT_TRUE(fails_with(minimal_scene_plus("durration: 1\n"), 14, "durration",
-                         "expected one of the keys time_step, duration, gravity, skin, domain, "
-                         "materials, interactions, shapes, superquadric_contact, particles, walls, "
-                         "outlets, output, got the key "
-                         "\"durration\" (did you mean \"duration\"?)"));
+  EXPECT_TRUE(fails_with(
+      minimal_scene_plus("durration: 1\n"), 14, "durration",
+      "expected one of the keys time_step, duration, gravity, skin, sort_by_cell, domain, "
+      "materials, interactions, shapes, superquadric_contact, particles, walls, "
+      "outlets, output, got the key "
+      "\"durration\" (did you mean \"duration\"?)"));
 }
 
 TEST(SceneKeyErrors, UnknownNestedKey) {
@@ -939,6 +940,13 @@ TEST(SceneShapes, SeparationCertificatesAreOnByDefaultAndCanBeTurnedOff) {
   EXPECT_FALSE(scene.superquadric_contact.separation_certificates);
   EXPECT_TRUE(fails_with(minimal_scene_plus("superquadric_contact: {separation_certificates: 2}\n"),
                          14, "superquadric_contact.separation_certificates",
+                         "expected true or false"));
+}
+
+TEST(SceneKeys, SortByCellIsOnByDefault) {
+  EXPECT_TRUE(load_text(minimal_scene()).sort_by_cell);
+  EXPECT_FALSE(load_text(minimal_scene_plus("sort_by_cell: false\n")).sort_by_cell);
+  EXPECT_TRUE(fails_with(minimal_scene_plus("sort_by_cell: 3\n"), 14, "sort_by_cell",
                          "expected true or false"));
 }
 
