@@ -33,12 +33,10 @@ namespace memory_check {
 // Kernels and deep copies in progress (the host thread that launches them counts; the threads
 // of an OpenMP kernel start after the increment and end before the decrement).
 inline std::atomic<int> open_scopes{0};
-inline std::atomic<std::int64_t> host_accesses_refused{0};
 
 inline void verify_host_access() {
   if (open_scopes.load(std::memory_order_relaxed) > 0)
     return;
-  host_accesses_refused.fetch_add(1, std::memory_order_relaxed);
   Kokkos::abort("kdem memory-space check: engine data accessed on the host outside a kernel "
                 "(use a mirror and deep_copy; see docs/architecture.md, memory spaces)");
 }

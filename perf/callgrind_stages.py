@@ -20,7 +20,6 @@ holds at least 5 % of them, exceed the baseline by more than --limit (5 %).
 import argparse
 import json
 import os
-import platform
 import shutil
 import subprocess
 import sys
@@ -29,6 +28,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import callgrind_profile  # noqa: E402
+import run_bench  # noqa: E402
 import stages as step_stages  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -44,18 +44,9 @@ CHECK_SCENES = "spheres,cubes"
 
 
 def machine():
-    model = platform.processor()
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                model = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    compiler = subprocess.run(["g++", "--version"], capture_output=True, text=True).stdout
+    info = run_bench.machine_info()
     valgrind = subprocess.run(["valgrind", "--version"], capture_output=True, text=True).stdout
-    return {"cpu": model, "compiler": compiler.splitlines()[0] if compiler else "unknown",
-            "valgrind": valgrind.strip()}
+    return {"cpu": info["cpu_model"], "compiler": info["compiler"], "valgrind": valgrind.strip()}
 
 
 def run(command, **kwargs):

@@ -21,7 +21,6 @@ tolerance to separate rounding from a defect).
 import argparse
 import json
 import os
-import platform
 import shutil
 import subprocess
 import sys
@@ -30,6 +29,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+import run_bench  # noqa: E402
 import stages as step_stages  # noqa: E402
 
 AGREEMENT_SCENES = ["small_hopper", "small_superquadrics", "drum"]
@@ -94,16 +94,6 @@ def choose_preset(requested, gpu):
         return "cuda-sm80"  # sm_80 code, and its PTX for 8.6 and 8.9
     sys.exit(f"gpu-check: compute capability {gpu['compute_capability']} is older than the "
              "builds of scripts/deps.sh (8.0 and 9.0)")
-
-
-def cpu_model():
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor()
 
 
 def run_test_suites(report, preset, out, quick):
@@ -280,7 +270,8 @@ def main():
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT,
                             capture_output=True, text=True).stdout.strip()
     report.data.update({"preset": preset, "commit": commit,
-                        "device": {"gpu": gpu, "cpu": cpu_model(), "cores": os.cpu_count()}})
+                        "device": {"gpu": gpu, "cpu": run_bench.machine_info()["cpu_model"],
+                                   "cores": os.cpu_count()}})
     try:
         if preset != "openmp":
             run(["make", "-C", ROOT, preset], log=out / "build.log")

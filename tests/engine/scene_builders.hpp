@@ -1,13 +1,17 @@
 #pragma once
 // Small programmatic scenes for engine tests.
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <string>
 
+#include "shapes/vec3.hpp"
 #include "src/engine.hpp"
 #include "src/scene.hpp"
+#include "src/scene_loader.hpp"
 
 namespace kdem::testing {
 
@@ -96,6 +100,35 @@ inline std::unique_ptr<std::ofstream> validation_csv(const std::string& name,
   file->precision(12);
   *file << header << "\n";
   return file;
+}
+
+// A scene of tests/cli (small_hopper, small_superquadrics, drum), as its file says.
+inline SceneConfig cli_scene(const std::string& name) {
+  return load_scene(std::string(KDEM_SOURCE_DIR) + "/tests/cli/" + name + ".yaml");
+}
+
+// What `steps` steps of a scene end with: positions by stable id, the narrow-phase totals, the
+// pair contacts and the smallest (bounding) radius.
+struct RunOutcome {
+  std::map<std::int64_t, Vec3> position;
+  NarrowPhaseTotals totals;
+  int contacts = 0;
+  double smallest_radius = 0;
+};
+
+inline RunOutcome run_steps(const SceneConfig& scene, int steps) {
+  Engine engine(scene);
+  for (int k = 0; k < steps; ++k)
+    engine.step();
+  RunOutcome outcome;
+  const ParticleSnapshot s = engine.snapshot();
+  for (std::size_t i = 0; i < s.id.size(); ++i)
+    outcome.position[s.id[i]] = {s.position[3 * i], s.position[3 * i + 1], s.position[3 * i + 2]};
+  outcome.totals = engine.narrow_phase_totals();
+  outcome.contacts = engine.diagnostics().pair_contacts;
+  if (!s.radius.empty())
+    outcome.smallest_radius = *std::min_element(s.radius.begin(), s.radius.end());
+  return outcome;
 }
 
 } // namespace kdem::testing

@@ -10,8 +10,7 @@
 #include <string>
 
 #include "kernels/types.hpp"
-#include "src/engine.hpp"
-#include "src/scene_loader.hpp"
+#include "scene_builders.hpp"
 
 namespace kdem {
 namespace {
@@ -61,9 +60,7 @@ void leave_region() {
 
 // Runs `steps` steps of a scene of tests/cli and returns what they moved to and from the host.
 TransferLog transfers_of_steps(const std::string& scene_name, int steps) {
-  const SceneConfig scene =
-      load_scene(std::string(KDEM_SOURCE_DIR) + "/tests/cli/" + scene_name + ".yaml");
-  Engine engine(scene);
+  Engine engine(testing::cli_scene(scene_name));
   transfer_log = TransferLog{};
   memory_check::copy_observer = &log_copy;
   Kokkos::Tools::Experimental::set_push_region_callback(&enter_region);

@@ -255,27 +255,11 @@ TEST(SeparationCertificates, DriftAccumulatesTheTurnedAngle) {
 namespace testing {
 namespace {
 
-struct RunOutcome {
-  std::map<std::int64_t, Vec3> position;
-  NarrowPhaseTotals totals;
-  int contacts = 0;
-};
-
 RunOutcome run_small_superquadrics(bool certificates, int steps, double tolerance = 0) {
-  SceneConfig scene =
-      load_scene(std::string(KDEM_SOURCE_DIR) + "/tests/cli/small_superquadrics.yaml");
+  SceneConfig scene = cli_scene("small_superquadrics");
   scene.superquadric_contact.separation_certificates = certificates;
   scene.superquadric_contact.tolerance = tolerance;
-  Engine engine(scene);
-  for (int k = 0; k < steps; ++k)
-    engine.step();
-  RunOutcome outcome;
-  const ParticleSnapshot s = engine.snapshot();
-  for (std::size_t i = 0; i < s.id.size(); ++i)
-    outcome.position[s.id[i]] = {s.position[3 * i], s.position[3 * i + 1], s.position[3 * i + 2]};
-  outcome.totals = engine.narrow_phase_totals();
-  outcome.contacts = engine.diagnostics().pair_contacts;
-  return outcome;
+  return run_steps(scene, steps);
 }
 
 // Certificates only skip pairs that cannot touch, so a run differs only through the later warm
