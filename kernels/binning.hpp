@@ -122,7 +122,7 @@ inline CellBins sort_particles_by_cell(ParticleViews& p, const CellGrid& grid,
       });
   if (reorder) {
     permute_particles(p, order, n);
-    return CellBins{grid, cell_start};
+    return CellBins{grid, cell_start, true, IndexView{}, IndexView{}};
   }
   auto slot_of = uninitialized<IndexView>("slot_of_particle", n);
   Kokkos::parallel_for(

@@ -7,21 +7,21 @@ namespace kdem {
 
 // The per-pair results a contact writes, and how it clears them when it ends.
 struct PairSlots {
-  Vec3View spring, rolling, force_on_i, torque_on_i, torque_on_j;
+  Vec3View spring, rolling, force_on_i, torque_on_i;
   ScalarView overlap;
 
   explicit PairSlots(const PairList& list)
       : spring(list.tangential_spring), rolling(list.rolling_torque), force_on_i(list.force_on_i),
-        torque_on_i(list.torque_on_i), torque_on_j(list.torque_on_j), overlap(list.overlap) {}
+        torque_on_i(list.torque_on_i), overlap(list.overlap) {}
 
   KOKKOS_INLINE_FUNCTION void clear(int k) const {
     if (overlap(k) == 0)
       return; // every value is already zero (see PairList)
     store3(spring, k, Vec3{});
-    store3(rolling, k, Vec3{});
+    if (rolling.extent(0) > 0)
+      store3(rolling, k, Vec3{});
     store3(force_on_i, k, Vec3{});
     store3(torque_on_i, k, Vec3{});
-    store3(torque_on_j, k, Vec3{});
     overlap(k) = 0;
   }
 
@@ -40,14 +40,15 @@ struct PairSlots {
     in.relative_angular_velocity = wi - wj;
     in.effective_radius = effective_radius;
     in.effective_mass = p.mass(i) * p.mass(j) / (p.mass(i) + p.mass(j));
-    ContactHistory history{load3(spring, k), load3(rolling, k)};
+    ContactHistory history{load3(spring, k), Vec3{}};
+    if constexpr (RollingResistance)
+      history.rolling_torque = load3(rolling, k);
     const ContactOutput out = hertz_mindlin<RollingResistance>(coefficients, in, dt, history);
     store3(spring, k, history.tangential_spring);
     if constexpr (RollingResistance)
       store3(rolling, k, history.rolling_torque);
     store3(force_on_i, k, out.force_on_i);
     store3(torque_on_i, k, cross(point - xi, out.force_on_i) + out.rolling_torque_on_i);
-    store3(torque_on_j, k, cross(point - xj, -out.force_on_i) - out.rolling_torque_on_i);
     overlap(k) = geometry.overlap;
   }
 };
@@ -77,23 +78,26 @@ void compute_sphere_pair_forces(const ParticleViews& p, PairList& list,
       });
 }
 
-// Adds the pair forces to the particles' force and torque accumulators.
+// Adds the pair forces to the particles' force and torque accumulators. A particle that is j
+// of pair k gets -F and the torque (x_j - x_i) x F - T_i (see PairList::torque_on_i).
 inline void gather_pair_forces(const ParticleViews& p, const PairList& list) {
-  auto force = p.force, torque = p.torque;
+  auto force = p.force, torque = p.torque, position = p.position;
   auto row_start = list.row_start, reverse_start = list.reverse_start;
-  auto reverse_pair = list.reverse_pair;
-  auto force_on_i = list.force_on_i, torque_on_i = list.torque_on_i, torque_on_j = list.torque_on_j;
+  auto reverse_pair = list.reverse_pair, pair_i = list.pair_i;
+  auto force_on_i = list.force_on_i, torque_on_i = list.torque_on_i;
   Kokkos::parallel_for(
       "kdem::gather_pair_forces", RangePolicy(0, p.count), KOKKOS_LAMBDA(int i) {
         Vec3 f = load3(force, i), t = load3(torque, i);
+        const Vec3 xi = load3(position, i);
         for (int k = row_start(i); k < row_start(i + 1); ++k) {
           f += load3(force_on_i, k);
           t += load3(torque_on_i, k);
         }
         for (int m = reverse_start(i); m < reverse_start(i + 1); ++m) {
           const int k = reverse_pair(m);
-          f -= load3(force_on_i, k);
-          t += load3(torque_on_j, k);
+          const Vec3 force_on_partner = load3(force_on_i, k);
+          f -= force_on_partner;
+          t += cross(xi - load3(position, pair_i(k)), force_on_partner) - load3(torque_on_i, k);
         }
         store3(force, i, f);
         store3(torque, i, t);

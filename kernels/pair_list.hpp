@@ -16,10 +16,11 @@ struct PairList {
   IndexView reverse_start;    // particle_count + 1
   IndexView reverse_pair;     // pairs in which the particle is j
   Vec3View tangential_spring; // history, see ContactHistory
-  Vec3View rolling_torque;
-  Vec3View force_on_i;  // N, per pair, this step
-  Vec3View torque_on_i; // N m
-  Vec3View torque_on_j;
+  Vec3View rolling_torque;    // history; empty when no material pair has rolling resistance
+  Vec3View force_on_i;        // N, per pair, this step
+  // N m, on i about its centre. The torque on j is not stored: it is (x_j - x_i) x F - T_i, as
+  // the two torques of one force about two centres differ by the moment of the centres' offset.
+  Vec3View torque_on_i;
   ScalarView overlap; // m, 0 when not touching; then all per-pair values above are 0 too
   // Superquadric pairs only (empty in scenes of spheres): the Newton warm start (midway point
   // relative to the midpoint of the two centres, m; multiplier, 0 = none) and the axis that last
@@ -47,7 +48,6 @@ template <class Visitor> void for_each_pair_list_field(Visitor&& visit) {
   visit("rolling_torque", &PairList::rolling_torque);
   visit("force_on_i", &PairList::force_on_i);
   visit("torque_on_i", &PairList::torque_on_i);
-  visit("torque_on_j", &PairList::torque_on_j);
   visit("overlap", &PairList::overlap);
   visit("midway_point", &PairList::midway_point);
   visit("midway_multiplier", &PairList::midway_multiplier);
@@ -139,7 +139,7 @@ inline void allocate_superquadric_pair_state(PairList& list) {
 }
 
 inline PairList build_pair_list(const ParticleViews& p, const CellBins& bins, double skin,
-                                bool superquadric_state = false) {
+                                bool rolling_state, bool superquadric_state = false) {
   const int n = p.count;
   PairList list;
   IndexView half_count("half_count", n);
@@ -157,10 +157,10 @@ inline PairList build_pair_list(const ParticleViews& p, const CellBins& bins, do
   list.pair_j = uninitialized<IndexView>("pair_j", pairs);
   list.partner_id = uninitialized<IdView>("partner_id", pairs);
   list.tangential_spring = Vec3View("tangential_spring", pairs);
-  list.rolling_torque = Vec3View("rolling_torque", pairs);
+  if (rolling_state)
+    list.rolling_torque = Vec3View("rolling_torque", pairs);
   list.force_on_i = Vec3View("pair_force", pairs);
   list.torque_on_i = Vec3View("pair_torque_i", pairs);
-  list.torque_on_j = Vec3View("pair_torque_j", pairs);
   list.overlap = ScalarView("pair_overlap", pairs);
   if (superquadric_state)
     allocate_superquadric_pair_state(list);
@@ -262,6 +262,7 @@ inline void transfer_pair_history(PairList& fresh, const PairList& old,
   auto old_partner = old.partner_id;
   auto old_spring = old.tangential_spring, old_rolling = old.rolling_torque;
   auto overlap = fresh.overlap, old_overlap = old.overlap;
+  const bool copy_rolling = rolling.extent(0) > 0 && old_rolling.extent(0) > 0;
   Kokkos::parallel_for(
       "kdem::pair_history_transfer", RangePolicy(0, fresh.pair_count), KOKKOS_LAMBDA(int k) {
         const std::int64_t a = id(pair_i(k)), b = partner(k);
@@ -274,10 +275,11 @@ inline void transfer_pair_history(PairList& fresh, const PairList& old,
         if (found < 0)
           return;
         overlap(k) = old_overlap(found);
-        for (int c = 0; c < 3; ++c) {
+        for (int c = 0; c < 3; ++c)
           spring(k, c) = sign * old_spring(found, c);
-          rolling(k, c) = sign * old_rolling(found, c);
-        }
+        if (copy_rolling)
+          for (int c = 0; c < 3; ++c)
+            rolling(k, c) = sign * old_rolling(found, c);
       });
   if (fresh.midway_point.extent(0) > 0 && old.midway_point.extent(0) > 0)
     transfer_superquadric_pair_state(fresh, old, old_row_of_id, id);

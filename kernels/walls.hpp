@@ -226,7 +226,7 @@ struct WallContactList {
   IndexView element;
   IdView element_key; // element index as a key for history transfer
   Vec3View tangential_spring;
-  Vec3View rolling_torque;
+  Vec3View rolling_torque; // empty when no material pair has rolling resistance
   ScalarView overlap;
 };
 
@@ -257,7 +257,7 @@ KOKKOS_INLINE_FUNCTION bool element_within_reach(const WallElements& el, int e, 
 }
 
 inline WallContactList build_wall_contact_list(const ParticleViews& p, const WallSet& walls,
-                                               double skin) {
+                                               double skin, bool rolling_state) {
   const int n = p.count;
   WallContactList list;
   IndexView counts("wall_candidate_count", n);
@@ -280,7 +280,8 @@ inline WallContactList build_wall_contact_list(const ParticleViews& p, const Wal
   list.element = uninitialized<IndexView>("wall_candidate_element", entries);
   list.element_key = uninitialized<IdView>("wall_candidate_key", entries);
   list.tangential_spring = Vec3View("wall_tangential_spring", entries);
-  list.rolling_torque = Vec3View("wall_rolling_torque", entries);
+  if (rolling_state)
+    list.rolling_torque = Vec3View("wall_rolling_torque", entries);
   list.overlap = ScalarView("wall_overlap", entries);
   auto row_start = list.row_start;
   auto element = list.element;
@@ -310,6 +311,7 @@ inline void transfer_wall_history(WallContactList& fresh, const WallContactList&
   auto old_start = old.row_start;
   auto old_key = old.element_key;
   auto old_spring = old.tangential_spring, old_rolling = old.rolling_torque;
+  const bool copy_rolling = rolling.extent(0) > 0 && old_rolling.extent(0) > 0;
   Kokkos::parallel_for(
       "kdem::wall_history_transfer", RangePolicy(0, particle_count), KOKKOS_LAMBDA(int i) {
         const int old_row = old_row_of_id(id(i));
@@ -317,10 +319,11 @@ inline void transfer_wall_history(WallContactList& fresh, const WallContactList&
           const int found = find_in_row(old_start, old_key, old_row, key(k));
           if (found < 0)
             continue;
-          for (int c = 0; c < 3; ++c) {
+          for (int c = 0; c < 3; ++c)
             spring(k, c) = old_spring(found, c);
-            rolling(k, c) = old_rolling(found, c);
-          }
+          if (copy_rolling)
+            for (int c = 0; c < 3; ++c)
+              rolling(k, c) = old_rolling(found, c);
         }
       });
 }
@@ -363,7 +366,8 @@ void apply_gravity_and_wall_contacts(const std::string& label, const ParticleVie
             contact = contact_of(i, e, wall);
           if (!contact.geometry.touching) {
             store3(spring, k, Vec3{});
-            store3(rolling, k, Vec3{});
+            if (RollingResistance) // not constexpr: nvcc lambdas may not first-capture there
+              store3(rolling, k, Vec3{});
             overlap(k) = 0;
             continue;
           }
@@ -374,11 +378,13 @@ void apply_gravity_and_wall_contacts(const std::string& label, const ParticleVie
           in.relative_angular_velocity = wi - wall.omega;
           in.effective_radius = contact.effective_radius;
           in.effective_mass = p.mass(i);
-          ContactHistory history{load3(spring, k), load3(rolling, k)};
+          ContactHistory history{load3(spring, k), Vec3{}};
+          if (RollingResistance)
+            history.rolling_torque = load3(rolling, k);
           const ContactOutput out = hertz_mindlin<RollingResistance>(
               table(p.material(i), wall.material), in, dt, history);
           store3(spring, k, history.tangential_spring);
-          if constexpr (RollingResistance)
+          if (RollingResistance)
             store3(rolling, k, history.rolling_torque);
           overlap(k) = in.geometry.overlap;
           f += out.force_on_i;

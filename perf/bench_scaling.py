@@ -3,7 +3,9 @@
 (perf/bench_spheres.cpp --shape) from N = 1e3 up, on Serial, OpenMP with 1 thread and OpenMP
 with 2 threads, in one session on one machine. Records particle-steps per second (median of
 the repeats), parallel efficiency, time per stage (the fenced run of each benchmark, grouped by
-perf/stages.py), bytes per particle in the engine's memory space, and time per step against N.
+perf/stages.py), bytes per particle in the engine's memory space (in total and by what they
+hold), time per step against N, and at each shape's largest N the gain of the sort by cell
+(OpenMP 2 threads, the same bed in shuffled order and never sorted).
 
     /usr/bin/python3 perf/bench_scaling.py                       # the full set
     /usr/bin/python3 perf/bench_scaling.py --shapes sphere --sizes 1e3 1e4 --repeat 3
@@ -13,6 +15,7 @@ Writes perf/results/bench_scaling.json and docs/img/bench_scaling.png.
 
 import argparse
 import json
+import subprocess
 import sys
 from pathlib import Path
 
@@ -30,7 +33,26 @@ DEFAULT_SIZES = {"sphere": [1e3, 1e4, 1e5, 1e6], "ellipsoid": [1e3, 1e4, 1e5],
 WORK = {"sphere": 2e7, "ellipsoid": 2e6, "cylinder": 2e6, "cube": 2e6}
 
 
-def run_config(bin_dir, binary, threads, shape, n, args):
+# What the engine's Views hold, by label (the first pattern that matches wins).
+MEMORY_GROUPS = [
+    ("superquadric pair state", r"^pair_(midway|separat|turned)"),
+    ("pair list", r"^(pair_|partner_id|tangential_spring|rolling_torque|reverse_|half_count)"),
+    ("wall contacts", r"^wall_"),
+    ("cell bins", r"^(bin|cell|slot|particle_in)"),
+]
+
+
+def memory_groups(by_label, particles):
+    """Bytes per particle by what they hold; labels without a group count as particle state."""
+    import re
+    groups = {}
+    for label, size in by_label.items():
+        group = next((g for g, p in MEMORY_GROUPS if re.search(p, label)), "particles and other")
+        groups[group] = groups.get(group, 0.0) + size / particles
+    return groups
+
+
+def run_config(bin_dir, binary, threads, shape, n, args, unsorted=False):
     steps = max(20, int(round(WORK[shape] * args.work_scale / n)))
     warmup = max(20, steps // 2)
 
@@ -38,6 +60,8 @@ def run_config(bin_dir, binary, threads, shape, n, args):
         command = [str(bin_dir / binary), "--n", str(int(n)), "--steps", str(steps), "--warmup",
                    str(warmup), "--repeat", str(args.repeat), "--shape", shape, "--cache-dir",
                    str(ROOT / "perf" / "cache"), f"--kokkos-threads={threads}"]
+        if unsorted:
+            command.append("--unsorted")
         result, wall, cpu, foreign = run_bench.run_measured(command, env=run_bench.kdem_env(threads),
                                                             cwd=ROOT)
         if result.returncode != 0:
@@ -51,6 +75,19 @@ def run_config(bin_dir, binary, threads, shape, n, args):
     return run_bench.measured_run(once, args)
 
 
+def settle_tile(bin_dir, shape):
+    """Settles (or loads) the shape's cached tile with OpenMP on 2 threads, so that the first
+    timed configuration (Serial) does not settle it on one core; the backends agree bit for bit,
+    so the tile is the same."""
+    command = [str(bin_dir / "kdem_bench_openmp"), "--n", "1000", "--steps", "1", "--warmup", "1",
+               "--repeat", "0", "--shape", shape, "--cache-dir", str(ROOT / "perf" / "cache"),
+               "--kokkos-threads=2"]
+    result = subprocess.run(command, env=run_bench.kdem_env(2), cwd=ROOT, capture_output=True,
+                            text=True)
+    if result.returncode != 0:
+        raise RuntimeError(f"{' '.join(command)} failed:\n{result.stderr[-3000:]}")
+
+
 def stage_split(record):
     stages = step_stages.kernel_stages({"kernels": record["kernels"]})
     steps = record["steps"]
@@ -62,7 +99,8 @@ def plot(results, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     shapes = sorted({r["shape"] for r in results}, key=list(DEFAULT_SIZES).index)
-    fig, axes = plt.subplots(1, 3, figsize=(16, 4.8))
+    results = [r for r in results if r["sorted_by_cell"]]
+    fig, axes = plt.subplots(1, 4, figsize=(21, 4.8))
     for shape in shapes:
         for backend, _, threads in CONFIGS:
             rows = sorted((r for r in results if r["shape"] == shape and r["backend"] == backend
@@ -90,8 +128,17 @@ def plot(results, path):
         bottom = [b + h for b, h in zip(bottom, heights)]
     axes[2].set(ylabel="ns per particle-step (fenced kernels)",
                 title="stages at the largest N, OpenMP 2 threads")
+    bottom = [0.0] * len(shapes)
+    groups = sorted({g for r in largest.values() for g in r["memory"]["groups_per_particle"]})
+    for group in groups:
+        heights = [largest[s]["memory"]["groups_per_particle"].get(group, 0.0)
+                   if s in largest else 0.0 for s in shapes]
+        axes[3].bar(shapes, heights, bottom=bottom, label=group)
+        bottom = [b + h for b, h in zip(bottom, heights)]
+    axes[3].set(ylabel="bytes per particle", title="memory at the largest N, by what it holds")
     axes[0].legend(fontsize=6)
     axes[2].legend(fontsize=6)
+    axes[3].legend(fontsize=6)
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=120)
@@ -103,6 +150,8 @@ def main():
     parser.add_argument("--sizes", type=float, nargs="+", help="instead of the shape's default")
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--work-scale", type=float, default=1.0)
+    parser.add_argument("--no-sort-check", dest="sort_check", action="store_false",
+                        help="skip the unsorted run at each shape's largest N")
     parser.add_argument("--quiet-wait", type=float, default=300)
     parser.add_argument("--retries", type=int, default=2)
     parser.add_argument("--foreign-limit", type=float, default=0.05)
@@ -112,7 +161,17 @@ def main():
     args = parser.parse_args()
     bin_dir = Path(args.bin)
     results = []
+    machine = run_bench.machine_info()
+
+    def save():  # after every shape, so that a stopped run keeps what it measured
+        document = {"machine": machine, "repeat": args.repeat, "runs": results}
+        out = Path(args.out)
+        tmp = out.with_suffix(".json.tmp")
+        tmp.write_text(json.dumps(document, indent=2) + "\n")
+        tmp.replace(out)
+
     for shape in args.shapes:
+        settle_tile(bin_dir, shape)
         for n in args.sizes or DEFAULT_SIZES[shape]:
             by_config = {}
             for backend, binary, threads in CONFIGS:
@@ -127,11 +186,25 @@ def main():
             one, two = by_config[("OpenMP", 1)], by_config[("OpenMP", 2)]
             two["parallel_efficiency"] = two["particle_steps_per_s"] / (
                 2 * one["particle_steps_per_s"])
-    document = {"machine": run_bench.machine_info(), "repeat": args.repeat, "runs": results}
-    out = Path(args.out)
-    tmp = out.with_suffix(".json.tmp")
-    tmp.write_text(json.dumps(document, indent=2) + "\n")
-    tmp.replace(out)
+            for record in by_config.values():
+                record["memory"]["groups_per_particle"] = memory_groups(
+                    record["memory"].get("bytes_by_label", {}), record["n"])
+        if args.sort_check:
+            n = max(args.sizes or DEFAULT_SIZES[shape])
+            record = run_config(bin_dir, "kdem_bench_openmp", 2, shape, n, args, unsorted=True)
+            record.update({"backend": "OpenMP", "threads": 2})
+            record["stage_seconds_per_step"] = stage_split(record)
+            record["memory"]["groups_per_particle"] = memory_groups(
+                record["memory"].get("bytes_by_label", {}), record["n"])
+            sorted_run = next(r for r in results if r["shape"] == shape and r["n"] == record["n"]
+                              and r["backend"] == "OpenMP" and r["threads"] == 2
+                              and r["sorted_by_cell"])
+            sorted_run["sort_speedup"] = (sorted_run["particle_steps_per_s"] /
+                                          record["particle_steps_per_s"])
+            results.append(record)
+            run_bench.log(f"{shape} N={int(n)} unsorted: {record['particle_steps_per_s']:.3g} "
+                          f"particle-steps/s; the sort gives {sorted_run['sort_speedup']:.2f}x")
+        save()
     plot(results, Path(args.plot))
     for r in results:
         if "parallel_efficiency" in r:

@@ -275,6 +275,10 @@ std::vector<Sphere> settle_tile(const BenchParameters& p, const BenchShape& shap
   const double mass = p.density * 4.0 / 3.0 * M_PI * std::pow(p.mean_radius, 3);
   const double energy_scale = p.tile_count * mass * p.gravity * p.mean_radius;
   const std::int64_t chunk = std::llround(0.01 / p.time_step);
+  // Flat-faced superquadrics keep a jitter of their contact points: a tile of cylinders
+  // (n1 = 8) still had 5e-6 to 1e-5 N m g r of kinetic energy between 1.9 and 2 s (measured),
+  // so they count as settled at 2e-5 (a mean speed of 0.6 mm/s).
+  const double settled_energy = (shape.is_sphere() ? 1e-6 : 2e-5) * energy_scale;
   for (int k = 1;; ++k) {
     engine.advance(chunk);
     const kdem::Diagnostics d = engine.diagnostics();
@@ -285,7 +289,7 @@ std::vector<Sphere> settle_tile(const BenchParameters& p, const BenchShape& shap
       throw std::runtime_error("tile settling diverged");
     if (d.particles != p.tile_count)
       throw std::runtime_error("spheres escaped the tile box while settling");
-    if (d.time >= 0.2 && kinetic < 1e-6 * energy_scale)
+    if (d.time >= 0.2 && kinetic < settled_energy)
       break;
     if (d.time > 2.0)
       throw std::runtime_error("tile did not settle within 2 s");
@@ -464,6 +468,7 @@ int run(const Options& o) {
   Kokkos::fence();
   const double bytes = double(memory->bytes_allocated());
   const double peak_bytes = double(memory->peak_bytes());
+  const std::string bytes_by_label = memory->bytes_by_label_json();
   memory.reset(); // no callbacks during the timed runs
   const kdem::Diagnostics before = engine.diagnostics();
 
@@ -523,7 +528,8 @@ int run(const Options& o) {
        << ", \"time_step\": " << json_number(p.time_step) << ", \"skin\": " << json_number(p.skin)
        << ", \"gravity\": " << json_number(p.gravity) << "}"
        << ", \"memory\": {\"bytes_per_particle\": " << json_number(n > 0 ? bytes / n : 0.0)
-       << ", \"peak_bytes_per_particle\": " << json_number(n > 0 ? peak_bytes / n : 0.0) << "}"
+       << ", \"peak_bytes_per_particle\": " << json_number(n > 0 ? peak_bytes / n : 0.0)
+       << ", \"bytes_by_label\": " << bytes_by_label << "}"
        << ", \"kernels\": " << kernels << ", \"git\": \"" << kdem::git_hash() << "\"}";
   std::cout << json.str() << std::endl;
   if (!o.out.empty()) {

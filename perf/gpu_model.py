@@ -42,7 +42,8 @@ ASSUMPTIONS = {
 
 # Bytes of the engine's Views (kernels/particles.hpp, pair_list.hpp, walls.hpp).
 PARTICLE_ROW = 24 * 7 + 32 + 8 * 3 + 4 * 2 + 8  # 3-vectors, quaternion, scalars, ints, id
-PAIR_ROW_SPHERES = 4 * 3 + 8 + 24 * 5 + 8  # i, j, reverse index, partner id, 5 vectors, overlap
+# i, j, reverse index, partner id, spring, force, torque on i, overlap; + rolling torque if on
+PAIR_ROW_SPHERES = 4 * 3 + 8 + 24 * 3 + 8
 PAIR_ROW_SUPERQUADRIC = 24 + 8 + 4 + 8 + 24 + 8 + 8  # warm start, box axis, certificate
 
 
@@ -55,7 +56,7 @@ def stage_bytes(items, rigid, rolling, cached_gathers=True):
     c, t = items["candidates"], items["contacts"]
     w, b = items["wall_candidates"], items["rebuilds"]
     history = 48 if rolling else 24  # tangential spring, and the rolling torque if on
-    pair_row = PAIR_ROW_SPHERES + (PAIR_ROW_SUPERQUADRIC if rigid else 0)
+    pair_row = PAIR_ROW_SPHERES + (24 if rolling else 0) + (PAIR_ROW_SUPERQUADRIC if rigid else 0)
     out = {}
     # kick_and_drift: reads v f m x q w I torque (184), writes v x q w (104); rigid bodies also
     # read and write turned_angle. kick: reads v f m w q I torque (160), writes v w (48).
@@ -75,18 +76,20 @@ def stage_bytes(items, rigid, rolling, cached_gathers=True):
         # axis, pass flag; compaction: flag, row read, row written; per particle x r q shape.
         out["superquadric box tests"] = 76 + s * (4 + 8 + 8 + 8 + 24 + 16 + 8 + 4 + 12)
         # per evaluation: row, i, j, warm start read and written, certificate written; per
-        # touching pair: the contact law's history and the force and torques written.
+        # touching pair: the contact law's history and the force and torque on i written.
         out["superquadric contacts"] = e * (4 + 8 + 2 * 32 + 8 + 24 + 16) + t * (
-            2 * history + 72 + 8)
+            2 * history + 48 + 8)
         out["sphere contacts"] = 0
     else:
         # per particle: x r v w m material; per candidate: i, j, overlap; per contact: history
-        # read and written, force and two torques written.
-        out["sphere contacts"] = 92 + c * 16 + t * (2 * history + 72)
-    # per particle: row and reverse starts, force and torque read and written; per candidate:
-    # reverse index, force read twice, both torques.
-    out["gather"] = 104 + c * (4 + 48 + 48)
+        # read and written, force and the torque on i written.
+        out["sphere contacts"] = 92 + c * 16 + t * (2 * history + 48)
+    # per particle: row and reverse starts, x, force and torque read and written; per candidate:
+    # reverse index, force and torque on i read twice, and the pair's i (the torque on j needs
+    # its position: a neighbour's row, cached).
+    out["gather"] = 128 + c * (4 + 48 + 48 + 4)
     if not cached_gathers:  # partner rows read per pair: x r (box tests: + q shape turned)
+        out["gather"] += c * 24
         if rigid:
             s_ = items["superquadric_candidates"]
             out["superquadric box tests"] += s_ * 76

@@ -400,11 +400,11 @@ void Engine::State::rebuild_lists() {
     cell_size = std::max(hi[0] - lo[0], 1e-3);
   const CellGrid grid = make_cell_grid(lo, hi, cell_size, 8'000'000);
   const CellBins bins = sort_particles_by_cell(particles, grid, scene.sort_by_cell);
-  PairList fresh_pairs = build_pair_list(particles, bins, list_skin, has_superquadrics);
+  PairList fresh_pairs = build_pair_list(particles, bins, list_skin, rolling, has_superquadrics);
   if (pairs.pair_count > 0)
     transfer_pair_history(fresh_pairs, pairs, old_rows, particles.id);
   pairs = fresh_pairs;
-  WallContactList fresh_walls = build_wall_contact_list(particles, walls, list_skin);
+  WallContactList fresh_walls = build_wall_contact_list(particles, walls, list_skin, rolling);
   if (wall_contacts.entry_count > 0)
     transfer_wall_history(fresh_walls, wall_contacts, old_rows, particles.id, particles.count);
   wall_contacts = fresh_walls;

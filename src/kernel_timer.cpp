@@ -31,7 +31,11 @@ struct TimerState {
   std::map<std::string, KernelTally> tallies;
   std::vector<OpenKernel> open; // kernels do not nest on the launching thread; a stack for safety
   std::int64_t bytes = 0, peak = 0;
-  std::unordered_map<const void*, std::int64_t> sizes; // allocations made while installed
+  struct Allocation {
+    std::int64_t size;
+    std::string label;
+  };
+  std::unordered_map<const void*, Allocation> live; // allocations made while installed
 };
 TimerState state;
 
@@ -84,7 +88,7 @@ void allocated(Kokkos_Profiling_SpaceHandle space, const char* label, const void
   if (state.previous.allocate_data)
     state.previous.allocate_data(space, label, data, size);
   if (in_engine_space(space)) {
-    state.sizes[data] = std::int64_t(size);
+    state.live[data] = {std::int64_t(size), label};
     state.bytes += std::int64_t(size);
     state.peak = std::max(state.peak, state.bytes);
   }
@@ -94,10 +98,10 @@ void deallocated(Kokkos_Profiling_SpaceHandle space, const char* label, const vo
                  std::uint64_t size) {
   if (state.previous.deallocate_data)
     state.previous.deallocate_data(space, label, data, size);
-  const auto found = state.sizes.find(data);
-  if (in_engine_space(space) && found != state.sizes.end()) {
-    state.bytes -= found->second;
-    state.sizes.erase(found);
+  const auto found = state.live.find(data);
+  if (in_engine_space(space) && found != state.live.end()) {
+    state.bytes -= found->second.size;
+    state.live.erase(found);
   }
 }
 
@@ -112,7 +116,7 @@ KernelTimer::KernelTimer(bool fence) {
   state.fence = fence;
   reset();
   state.bytes = state.peak = 0;
-  state.sizes.clear();
+  state.live.clear();
   tools::set_allocate_data_callback(&allocated);
   tools::set_deallocate_data_callback(&deallocated);
   tools::set_begin_parallel_for_callback(&begin_for);
@@ -145,6 +149,25 @@ std::int64_t KernelTimer::peak_bytes() const {
   return state.peak;
 }
 
+std::map<std::string, std::int64_t> KernelTimer::bytes_by_label() const {
+  std::map<std::string, std::int64_t> bytes;
+  for (const auto& entry : state.live)
+    bytes[entry.second.label] += entry.second.size;
+  return bytes;
+}
+
+std::string KernelTimer::bytes_by_label_json() const {
+  std::ostringstream out;
+  out << "{";
+  const char* separator = "";
+  for (const auto& [label, bytes] : bytes_by_label()) {
+    out << separator << json_string(label) << ": " << bytes;
+    separator = ", ";
+  }
+  out << "}";
+  return out.str();
+}
+
 std::string KernelTimer::to_json(std::int64_t steps, std::int64_t particle_steps,
                                  int particles) const {
   std::ostringstream out;
@@ -155,7 +178,8 @@ std::string KernelTimer::to_json(std::int64_t steps, std::int64_t particle_steps
       << ", \"bytes\": " << state.bytes << ", \"peak_bytes\": " << state.peak
       << ", \"bytes_per_particle\": "
       << json_number(particles > 0 ? double(state.bytes) / particles : 0.0)
-      << "},\n  \"kernels\": " << kernels_json() << "\n}\n";
+      << ", \"by_label\": " << bytes_by_label_json() << "},\n  \"kernels\": " << kernels_json()
+      << "\n}\n";
   return out.str();
 }
 

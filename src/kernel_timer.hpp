@@ -29,6 +29,8 @@ public:
   const std::map<std::string, KernelTally>& tallies() const;
   std::int64_t bytes_allocated() const; // in the engine's memory space, now
   std::int64_t peak_bytes() const;      // the most at any time since construction
+  std::map<std::string, std::int64_t> bytes_by_label() const; // now, summed by View label
+  std::string bytes_by_label_json() const;                    // {label: bytes, ...}
   // {"kernels": {label: {"launches": n, "seconds": s}, ...}, "steps": steps, "memory": ...}
   std::string to_json(std::int64_t steps, std::int64_t particle_steps, int particles) const;
   std::string kernels_json() const; // {label: {"launches": n, "seconds": s}, ...}

@@ -37,17 +37,24 @@ TEST(KernelTimer, CountsLaunchesPerLabel) {
 }
 
 // A View of 1000 doubles made while the timer is installed counts 8000 bytes (Kokkos reports
-// the data size) until it is freed; the peak keeps them.
+// the data size) under its label until it is freed; the peak keeps them.
 TEST(KernelTimer, TalliesBytesInTheEngineSpace) {
   KernelTimer timer(false);
   EXPECT_EQ(timer.bytes_allocated(), 0);
   {
     ScalarView values("values", 1000);
+    ScalarView more_values("values", 500), others("others", 10);
     fill(values, 3.0);
-    EXPECT_EQ(timer.bytes_allocated(), 8000);
+    EXPECT_EQ(timer.bytes_allocated(), 8000 + 4000 + 80);
+    const auto by_label = timer.bytes_by_label();
+    ASSERT_EQ(by_label.size(), 2u);
+    EXPECT_EQ(by_label.at("values"), 12000);
+    EXPECT_EQ(by_label.at("others"), 80);
+    EXPECT_EQ(timer.bytes_by_label_json(), "{\"others\": 80, \"values\": 12000}");
   }
   EXPECT_EQ(timer.bytes_allocated(), 0);
-  EXPECT_EQ(timer.peak_bytes(), 8000);
+  EXPECT_TRUE(timer.bytes_by_label().empty());
+  EXPECT_EQ(timer.peak_bytes(), 12080);
 }
 
 TEST(KernelTimer, OneAtATime) {

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "scene_builders.hpp"
+#include "src/kernel_timer.hpp"
 
 namespace kdem::testing {
 namespace {
@@ -75,6 +76,52 @@ TEST(PipelineLayout, SortByCellChangesOnlyRounding) {
     }
     EXPECT_LT(largest, 1e-6 * sorted.smallest_radius) << name;
   }
+}
+
+struct PairStorage {
+  std::int64_t pair_rolling_bytes = 0, wall_rolling_bytes = 0; // live after the steps
+  int pair_candidates = 0, wall_candidates = 0;
+};
+
+// Four spheres in a row, touching each other and resting on a plane, without gravity: the
+// rolling friction coefficient changes nothing they do, so both runs list the same pairs.
+PairStorage storage_of_row_of_spheres(double rolling_friction) {
+  KernelTimer memory(false);
+  PairStorage storage;
+  SceneConfig scene =
+      empty_scene(1e-6, {material("glass", 2500, 1e8, 0.3, 0.5, 0.5, rolling_friction)});
+  scene.walls = {plane_wall("glass", {0, 0, 0}, {0, 0, 1})};
+  Engine engine(scene);
+  std::vector<ParticleInit> row;
+  for (int k = 0; k < 4; ++k)
+    row.push_back(sphere({k * 1.999e-3, 0, 0.999e-3}, 1e-3));
+  engine.add_particles(row);
+  engine.advance(3);
+  const auto bytes = memory.bytes_by_label();
+  const auto bytes_of = [&](const std::string& label) {
+    const auto found = bytes.find(label);
+    return found == bytes.end() ? std::int64_t(0) : found->second;
+  };
+  storage.pair_rolling_bytes = bytes_of("rolling_torque");
+  storage.wall_rolling_bytes = bytes_of("wall_rolling_torque");
+  storage.pair_candidates = engine.pair_candidates();
+  storage.wall_candidates = engine.wall_candidates();
+  return storage;
+}
+
+// The rolling torque is history only where some material pair has rolling resistance: without
+// it the pair and wall lists hold no rolling rows, 24 bytes (one 3-vector) fewer per entry.
+TEST(PipelineLayout, RollingHistoryIsStoredOnlyWhenAMaterialHasRollingResistance) {
+  const PairStorage without = storage_of_row_of_spheres(0.0);
+  const PairStorage with = storage_of_row_of_spheres(0.1);
+  ASSERT_EQ(without.pair_candidates, 3);
+  ASSERT_EQ(without.wall_candidates, 4);
+  ASSERT_EQ(with.pair_candidates, without.pair_candidates);
+  ASSERT_EQ(with.wall_candidates, without.wall_candidates);
+  EXPECT_EQ(without.pair_rolling_bytes, 0);
+  EXPECT_EQ(without.wall_rolling_bytes, 0);
+  EXPECT_EQ(with.pair_rolling_bytes, 24 * with.pair_candidates);
+  EXPECT_EQ(with.wall_rolling_bytes, 24 * with.wall_candidates);
 }
 
 } // namespace
