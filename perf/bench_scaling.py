@@ -10,7 +10,8 @@ hold), time per step against N, and at each shape's largest N the gain of the so
     /usr/bin/python3 perf/bench_scaling.py                       # the full set
     /usr/bin/python3 perf/bench_scaling.py --shapes sphere --sizes 1e3 1e4 --repeat 3
 
-Writes perf/results/bench_scaling.json and docs/img/bench_scaling.png.
+Writes perf/results/bench_scaling.json (keeping the runs of shapes not measured this time, when
+the file came from this machine) and docs/img/bench_scaling.png.
 """
 
 import argparse
@@ -160,8 +161,15 @@ def main():
     parser.add_argument("--plot", default=str(ROOT / "docs" / "img" / "bench_scaling.png"))
     args = parser.parse_args()
     bin_dir = Path(args.bin)
-    results = []
-    machine = run_bench.machine_info()
+    # Runs of other shapes already in the output file are kept (one shape at a time can be
+    # measured again); their machine must be this one.
+    results, machine = [], run_bench.machine_info()
+    if Path(args.out).exists():
+        earlier = json.loads(Path(args.out).read_text())
+        if earlier.get("machine") == machine:
+            results = [r for r in earlier["runs"] if r["shape"] not in args.shapes]
+        else:
+            run_bench.log(f"{args.out} was measured on another machine: not kept")
 
     def save():  # after every shape, so that a stopped run keeps what it measured
         document = {"machine": machine, "repeat": args.repeat, "runs": results}
