@@ -16,7 +16,7 @@ the file came from this machine) and docs/img/bench_scaling.png.
 
 import argparse
 import json
-import subprocess
+import re
 import sys
 from pathlib import Path
 
@@ -32,6 +32,7 @@ DEFAULT_SIZES = {"sphere": [1e3, 1e4, 1e5, 1e6], "ellipsoid": [1e3, 1e4, 1e5],
 # Work per timed run (particle-steps): spheres run ~8e6 per second and thread, superquadrics
 # ~6e5, so that each timed run lasts a few seconds.
 WORK = {"sphere": 2e7, "ellipsoid": 2e6, "cylinder": 2e6, "cube": 2e6}
+CACHE_DIR = ROOT / "perf" / "cache"
 
 
 # What the engine's Views hold, by label (the first pattern that matches wins).
@@ -45,7 +46,6 @@ MEMORY_GROUPS = [
 
 def memory_groups(by_label, particles):
     """Bytes per particle by what they hold; labels without a group count as particle state."""
-    import re
     groups = {}
     for label, size in by_label.items():
         group = next((g for g, p in MEMORY_GROUPS if re.search(p, label)), "particles and other")
@@ -53,40 +53,26 @@ def memory_groups(by_label, particles):
     return groups
 
 
-def run_config(bin_dir, binary, threads, shape, n, args, unsorted=False):
+def run_config(bin_dir, backend, binary, threads, shape, n, args, unsorted=False):
+    """The median record of one configuration, with its stage split and memory groups."""
     steps = max(20, int(round(WORK[shape] * args.work_scale / n)))
-    warmup = max(20, steps // 2)
-
-    def once():
-        command = [str(bin_dir / binary), "--n", str(int(n)), "--steps", str(steps), "--warmup",
-                   str(warmup), "--repeat", str(args.repeat), "--shape", shape, "--cache-dir",
-                   str(ROOT / "perf" / "cache"), f"--kokkos-threads={threads}"]
-        if unsorted:
-            command.append("--unsorted")
-        result, wall, cpu, foreign = run_bench.run_measured(command, env=run_bench.kdem_env(threads),
-                                                            cwd=ROOT)
-        if result.returncode != 0:
-            raise RuntimeError(f"{' '.join(command)} failed:\n{result.stderr[-3000:]}")
-        record = json.loads(result.stdout.strip().splitlines()[-1])
-        record.update({"wall_s": round(wall, 2), "cpu_s": round(cpu, 2),
-                       "foreign_cpu_s": None if foreign is None else round(foreign, 2),
-                       "workers": threads})
-        return record
-
-    return run_bench.measured_run(once, args)
+    extra = ["--shape", shape] + (["--unsorted"] if unsorted else [])
+    record = run_bench.measured_run(
+        lambda: run_bench.run_kdem(bin_dir / binary, int(n), steps, max(20, steps // 2),
+                                   args.repeat, threads, CACHE_DIR, extra=extra), args)
+    record.update({"backend": backend, "threads": threads})
+    record["stage_seconds_per_step"] = stage_split(record)
+    record["memory"]["groups_per_particle"] = memory_groups(
+        record["memory"].get("bytes_by_label", {}), record["n"])
+    return record
 
 
 def settle_tile(bin_dir, shape):
     """Settles (or loads) the shape's cached tile with OpenMP on 2 threads, so that the first
     timed configuration (Serial) does not settle it on one core; the backends agree bit for bit,
     so the tile is the same."""
-    command = [str(bin_dir / "kdem_bench_openmp"), "--n", "1000", "--steps", "1", "--warmup", "1",
-               "--repeat", "0", "--shape", shape, "--cache-dir", str(ROOT / "perf" / "cache"),
-               "--kokkos-threads=2"]
-    result = subprocess.run(command, env=run_bench.kdem_env(2), cwd=ROOT, capture_output=True,
-                            text=True)
-    if result.returncode != 0:
-        raise RuntimeError(f"{' '.join(command)} failed:\n{result.stderr[-3000:]}")
+    run_bench.run_kdem(bin_dir / "kdem_bench_openmp", 1000, 1, 1, 0, 2, CACHE_DIR,
+                       extra=["--shape", shape])
 
 
 def stage_split(record):
@@ -180,12 +166,10 @@ def main():
 
     for shape in args.shapes:
         settle_tile(bin_dir, shape)
-        for n in args.sizes or DEFAULT_SIZES[shape]:
+        for n in sorted(args.sizes or DEFAULT_SIZES[shape]):
             by_config = {}
             for backend, binary, threads in CONFIGS:
-                record = run_config(bin_dir, binary, threads, shape, n, args)
-                record.update({"backend": backend, "threads": threads})
-                record["stage_seconds_per_step"] = stage_split(record)
+                record = run_config(bin_dir, backend, binary, threads, shape, n, args)
                 results.append(record)
                 by_config[(backend, threads)] = record
                 run_bench.log(f"{shape} N={int(n)} {backend} {threads}: "
@@ -194,24 +178,13 @@ def main():
             one, two = by_config[("OpenMP", 1)], by_config[("OpenMP", 2)]
             two["parallel_efficiency"] = two["particle_steps_per_s"] / (
                 2 * one["particle_steps_per_s"])
-            for record in by_config.values():
-                record["memory"]["groups_per_particle"] = memory_groups(
-                    record["memory"].get("bytes_by_label", {}), record["n"])
-        if args.sort_check:
-            n = max(args.sizes or DEFAULT_SIZES[shape])
-            record = run_config(bin_dir, "kdem_bench_openmp", 2, shape, n, args, unsorted=True)
-            record.update({"backend": "OpenMP", "threads": 2})
-            record["stage_seconds_per_step"] = stage_split(record)
-            record["memory"]["groups_per_particle"] = memory_groups(
-                record["memory"].get("bytes_by_label", {}), record["n"])
-            sorted_run = next(r for r in results if r["shape"] == shape and r["n"] == record["n"]
-                              and r["backend"] == "OpenMP" and r["threads"] == 2
-                              and r["sorted_by_cell"])
-            sorted_run["sort_speedup"] = (sorted_run["particle_steps_per_s"] /
-                                          record["particle_steps_per_s"])
+        if args.sort_check:  # `two` is the sorted run at the largest N
+            record = run_config(bin_dir, "OpenMP", "kdem_bench_openmp", 2, shape, n, args,
+                                unsorted=True)
+            two["sort_speedup"] = two["particle_steps_per_s"] / record["particle_steps_per_s"]
             results.append(record)
             run_bench.log(f"{shape} N={int(n)} unsorted: {record['particle_steps_per_s']:.3g} "
-                          f"particle-steps/s; the sort gives {sorted_run['sort_speedup']:.2f}x")
+                          f"particle-steps/s; the sort gives {two['sort_speedup']:.2f}x")
         save()
     plot(results, Path(args.plot))
     for r in results:

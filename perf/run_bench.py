@@ -193,10 +193,12 @@ def kdem_env(threads):
     return env
 
 
-def run_kdem(binary, n, steps, warmup, repeat, threads, cache_dir, write_data=None, rebuild=False):
+def run_kdem(binary, n, steps, warmup, repeat, threads, cache_dir, write_data=None, rebuild=False,
+             extra=()):
+    """One kdem benchmark run; extra: further options (e.g. --shape cube, --unsorted)."""
     command = [str(binary), "--n", str(n), "--steps", str(steps), "--warmup", str(warmup),
                "--repeat", str(repeat), "--cache-dir", str(cache_dir),
-               f"--kokkos-threads={threads}"]
+               f"--kokkos-threads={threads}", *extra]
     if write_data:
         command += ["--write-data", str(write_data)]
     if rebuild:
