@@ -1,6 +1,6 @@
 #pragma once
 // Sphere-sphere contact forces, one thread per candidate pair, stored per pair; then gathered
-// per particle in list order (deterministic for any thread count, no atomics).
+// per particle by sum_forces (force_sum.hpp).
 #include "pair_list.hpp"
 
 namespace kdem {
@@ -75,32 +75,6 @@ void compute_sphere_pair_forces(const ParticleViews& p, PairList& list,
         }
         slots.apply<RollingResistance>(k, p, i, j, geometry, ri * rj / (ri + rj),
                                        table(p.material(i), p.material(j)), dt);
-      });
-}
-
-// Adds the pair forces to the particles' force and torque accumulators. A particle that is j
-// of pair k gets -F and the torque (x_j - x_i) x F - T_i (see PairList::torque_on_i).
-inline void gather_pair_forces(const ParticleViews& p, const PairList& list) {
-  auto force = p.force, torque = p.torque, position = p.position;
-  auto row_start = list.row_start, reverse_start = list.reverse_start;
-  auto reverse_pair = list.reverse_pair, pair_i = list.pair_i;
-  auto force_on_i = list.force_on_i, torque_on_i = list.torque_on_i;
-  Kokkos::parallel_for(
-      "kdem::gather_pair_forces", RangePolicy(0, p.count), KOKKOS_LAMBDA(int i) {
-        Vec3 f = load3(force, i), t = load3(torque, i);
-        const Vec3 xi = load3(position, i);
-        for (int k = row_start(i); k < row_start(i + 1); ++k) {
-          f += load3(force_on_i, k);
-          t += load3(torque_on_i, k);
-        }
-        for (int m = reverse_start(i); m < reverse_start(i + 1); ++m) {
-          const int k = reverse_pair(m);
-          const Vec3 force_on_partner = load3(force_on_i, k);
-          f -= force_on_partner;
-          t += cross(xi - load3(position, pair_i(k)), force_on_partner) - load3(torque_on_i, k);
-        }
-        store3(force, i, f);
-        store3(torque, i, t);
       });
 }
 

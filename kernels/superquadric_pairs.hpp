@@ -8,7 +8,7 @@
 //     the expensive kernel for pairs that the cheap tests rule out;
 //   sphere-superquadric: the closest-point narrow phase, on the candidate pairs of that type
 //     within bounding-sphere reach and without a valid separation certificate.
-// Forces are stored per pair like sphere pairs and gathered by gather_pair_forces.
+// Forces are stored per pair like sphere pairs and summed per particle by sum_forces.
 #include "../shapes/superquadric_contact.hpp"
 #include "../shapes/superquadric_properties.hpp"
 #include "launch.hpp"

@@ -1,5 +1,5 @@
 #pragma once
-// Superquadric particles against walls: gravity plus the contacts with the wall elements of each
+// Superquadric particles against walls: the contacts with the wall elements of each
 // superquadric particle's candidate list, one thread per superquadric particle. The particle is
 // posed in the wall's reference frame, the contact found there (planes: the deepest point of
 // book Eqs. 2.11-2.12; cylinders: the point furthest from the axis; triangles: face, edge or
@@ -96,13 +96,13 @@ struct SuperquadricWallContactOf {
 };
 
 template <bool RollingResistance, class RowOf>
-void apply_gravity_and_superquadric_wall_forces(const ParticleViews& p, const ShapeTable& shapes,
-                                                const WallSet& walls, WallContactList& list,
-                                                const CoefficientTable& table,
-                                                const SuperquadricContactSettings& settings,
-                                                Vec3 gravity, double dt, int count, RowOf row_of) {
-  apply_gravity_and_wall_contacts<RollingResistance>(
-      "kdem::superquadric_wall_forces", p, walls, list, table, gravity, dt, count, row_of,
+void compute_superquadric_wall_contacts(const ParticleViews& p, const ShapeTable& shapes,
+                                        const WallSet& walls, WallContactList& list,
+                                        const CoefficientTable& table,
+                                        const SuperquadricContactSettings& settings, double dt,
+                                        int count, RowOf row_of) {
+  compute_wall_contacts<RollingResistance>(
+      "kdem::superquadric_wall_contacts", p, walls, list, table, dt, count, row_of,
       SuperquadricWallContactOf{walls.elements, shapes, p, settings.curvature_limit});
 }
 

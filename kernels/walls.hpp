@@ -227,9 +227,13 @@ struct WallContactList {
   IdView element_key; // element index as a key for history transfer
   Vec3View tangential_spring;
   Vec3View rolling_torque; // empty when no material pair has rolling resistance
-  ScalarView overlap;
+  Vec3View force_on_i;     // N, this step; summed per particle by sum_forces
+  Vec3View torque_on_i;    // N m, about the particle's centre
+  ScalarView overlap;      // m, 0 when not touching; then the force and torque are 0 too
 };
 
+// The fields a checkpoint keeps; force_on_i and torque_on_i are not among them, as every step
+// computes them anew before sum_forces reads them.
 template <class Visitor> void for_each_wall_contact_field(Visitor&& visit) {
   visit("row_start", &WallContactList::row_start);
   visit("element", &WallContactList::element);
@@ -254,6 +258,11 @@ KOKKOS_INLINE_FUNCTION bool element_within_reach(const WallElements& el, int e, 
   return triangle_query(geometry_vec(el.geometry, e, 0), geometry_vec(el.geometry, e, 3),
                         geometry_vec(el.geometry, e, 6), p)
              .signed_distance < reach;
+}
+
+inline void allocate_wall_contact_results(WallContactList& list) {
+  list.force_on_i = Vec3View("wall_force", list.entry_count);
+  list.torque_on_i = Vec3View("wall_torque", list.entry_count);
 }
 
 inline WallContactList build_wall_contact_list(const ParticleViews& p, const WallSet& walls,
@@ -282,6 +291,7 @@ inline WallContactList build_wall_contact_list(const ParticleViews& p, const Wal
   list.tangential_spring = Vec3View("wall_tangential_spring", entries);
   if (rolling_state)
     list.rolling_torque = Vec3View("wall_rolling_torque", entries);
+  allocate_wall_contact_results(list);
   list.overlap = ScalarView("wall_overlap", entries);
   auto row_start = list.row_start;
   auto element = list.element;
@@ -328,36 +338,32 @@ inline void transfer_wall_history(WallContactList& fresh, const WallContactList&
       });
 }
 
-// Sets each particle's force to gravity plus its wall contact forces, and its torque to the
-// wall torques. Runs before the pair gather, which adds to these.
 // A particle-wall contact in the world frame, with the Hertz radius it gets.
 struct WallContactGeometry {
   ContactGeometry geometry;
   double effective_radius = 0; // m
 };
 
-// Sets each of `count` particles' force to gravity plus its wall contact forces and its torque
-// to the wall torques (the m-th particle is row row_of(m)). contact_of(i, e, pose) gives the
-// contact of particle i with element e of a wall at that pose; the particle family decides
-// how (spheres below, superquadrics in superquadric_walls.hpp). Runs before the pair gather,
-// which adds to these.
+// The wall contacts of `count` particles (the m-th particle is row row_of(m)), stored per
+// candidate entry like pair contacts and summed per particle by sum_forces. contact_of(i, e,
+// pose) gives the contact of particle i with element e of a wall at that pose; the particle
+// family decides how (spheres below, other families in their own wall kernels).
 template <bool RollingResistance, class RowOf, class ContactOf>
-void apply_gravity_and_wall_contacts(const std::string& label, const ParticleViews& p,
-                                     const WallSet& walls, WallContactList& list,
-                                     const CoefficientTable& table, Vec3 gravity, double dt,
-                                     int count, RowOf row_of, ContactOf contact_of) {
+void compute_wall_contacts(const std::string& label, const ParticleViews& p, const WallSet& walls,
+                           WallContactList& list, const CoefficientTable& table, double dt,
+                           int count, RowOf row_of, ContactOf contact_of) {
   auto el = walls.elements;
   auto pose = walls.pose;
   auto row_start = list.row_start;
   auto element = list.element;
   auto spring = list.tangential_spring, rolling = list.rolling_torque;
+  auto force_on_i = list.force_on_i, torque_on_i = list.torque_on_i;
   auto overlap = list.overlap;
   Kokkos::parallel_for(
       label, RangePolicy(0, count), KOKKOS_LAMBDA(int m) {
         const int i = row_of(m);
         const Vec3 xi = load3(p.position, i), vi = load3(p.velocity, i),
                    wi = load3(p.angular_velocity, i);
-        Vec3 f = p.mass(i) * gravity, t{};
         for (int k = row_start(i); k < row_start(i + 1); ++k) {
           const int e = element(k);
           const WallPose wall = pose(el.wall(e));
@@ -368,6 +374,8 @@ void apply_gravity_and_wall_contacts(const std::string& label, const ParticleVie
             store3(spring, k, Vec3{});
             if (RollingResistance) // not constexpr: nvcc lambdas may not first-capture there
               store3(rolling, k, Vec3{});
+            store3(force_on_i, k, Vec3{});
+            store3(torque_on_i, k, Vec3{});
             overlap(k) = 0;
             continue;
           }
@@ -387,11 +395,9 @@ void apply_gravity_and_wall_contacts(const std::string& label, const ParticleVie
           if (RollingResistance)
             store3(rolling, k, history.rolling_torque);
           overlap(k) = in.geometry.overlap;
-          f += out.force_on_i;
-          t += cross(point - xi, out.force_on_i) + out.rolling_torque_on_i;
+          store3(force_on_i, k, out.force_on_i);
+          store3(torque_on_i, k, cross(point - xi, out.force_on_i) + out.rolling_torque_on_i);
         }
-        store3(p.force, i, f);
-        store3(p.torque, i, t);
       });
 }
 
@@ -422,13 +428,12 @@ struct SphereWallContact {
 // Spheres against walls: for `count` particles, the m-th being row row_of(m) (all particles by
 // default; the spheres of a mixed scene through their index list).
 template <bool RollingResistance, class RowOf = AllRows>
-void apply_gravity_and_wall_forces(const ParticleViews& p, const WallSet& walls,
-                                   WallContactList& list, const CoefficientTable& table,
-                                   Vec3 gravity, double dt, int count = -1,
-                                   RowOf row_of = RowOf{}) {
-  apply_gravity_and_wall_contacts<RollingResistance>(
-      "kdem::gravity_and_wall_forces", p, walls, list, table, gravity, dt,
-      count < 0 ? p.count : count, row_of, SphereWallContact{walls.elements, p.position, p.radius});
+void compute_sphere_wall_contacts(const ParticleViews& p, const WallSet& walls,
+                                  WallContactList& list, const CoefficientTable& table, double dt,
+                                  int count = -1, RowOf row_of = RowOf{}) {
+  compute_wall_contacts<RollingResistance>("kdem::sphere_wall_contacts", p, walls, list, table, dt,
+                                           count < 0 ? p.count : count, row_of,
+                                           SphereWallContact{walls.elements, p.position, p.radius});
 }
 
 } // namespace kdem

@@ -13,7 +13,7 @@ FUNCTION_STAGES = [
               r"kdem::transfer_wall_history|kdem::sort_into_families|"
               r"kdem::max_displacement_squared|kdem::Engine::State::lists_are_stale|"
               r"kdem::remember_build_positions|kdem::rows_by_id"),
-    ("walls", r"kdem::apply_gravity_and_\w*wall_(forces|contacts)|kdem::update_wall_poses"),
+    ("walls", r"kdem::compute_\w*wall_contacts|kdem::update_wall_poses"),
     ("superquadric box tests", r"kdem::superquadric_pairs_in_reach"),
     ("superquadric narrow phase", r"kdem::superquadric_pair_contact|"
                                   r"kdem::sphere_superquadric_contact|kdem::narrow_phase::"),
@@ -26,7 +26,8 @@ FUNCTION_STAGES = [
     # the sphere pair kernel is inlined into the function that calls the pair kernels
     ("sphere contacts", r"kdem::compute_sphere_pair_forces|"
                         r"kdem::Engine::State::compute_forces_of_families"),
-    ("gather", r"kdem::gather_pair_forces"),
+    # gravity, wall and pair contributions summed per particle
+    ("gather", r"kdem::sum_forces"),
     ("outlets", r"kdem::Engine::State::remove_discharged_particles"),
     ("insertion", r"kdem::Engine::State::insert_due_particles"),
 ]
@@ -38,11 +39,11 @@ KERNEL_STAGES = [
     ("lists", r"^kdem::(max_displacement|pair_count|pair_fill|pair_reverse_\w+|"
               r"pair_history_transfer|rows_by_id|wall_candidate_\w+|wall_history_transfer|"
               r"flag_rows|kept_indices|exclusive_scan|superquadric_state_transfer)$"),
-    ("walls", r"^kdem::(gravity_and_wall_forces|superquadric_wall_forces|wall_poses)$"),
+    ("walls", r"^kdem::(\w+_wall_contacts|wall_poses)$"),
     ("superquadric box tests", r"^kdem::superquadric_pair_(prefilter|compact)$"),
     ("superquadric contacts", r"^kdem::(superquadric_pair_forces|sphere_superquadric_forces)$"),
     ("sphere contacts", r"^kdem::sphere_pair_forces$"),
-    ("gather", r"^kdem::gather_pair_forces$"),
+    ("gather", r"^kdem::sum_forces$"),
     ("outlets", r"^kdem::outlets$"),
     ("output", r"^kdem::(energy|pair_contact_statistics|wall_contact_statistics)$"),
     ("allocation", r"^Kokkos::"),

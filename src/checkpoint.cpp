@@ -138,6 +138,7 @@ void Engine::read_checkpoint(const std::string& path) {
     load_view(in, std::string("wall_contacts/") + name, s.wall_contacts.*member);
   });
   s.wall_contacts.entry_count = int(in.read_scalar_int64("wall_entry_count"));
+  allocate_wall_contact_results(s.wall_contacts);
   s.classify_families();
   update_wall_poses(s.walls, s.time);
 }

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "../kernels/diagnostics.hpp"
+#include "../kernels/force_sum.hpp"
 #include "../kernels/integrate.hpp"
 #include "../kernels/pair_forces.hpp"
 #include "engine_state.hpp"
@@ -418,15 +419,14 @@ void Engine::State::rebuild_lists() {
 
 template <bool Rolling> void Engine::State::compute_forces_of_families() {
   if (!families.mixed) {
-    apply_gravity_and_wall_forces<Rolling>(particles, walls, wall_contacts, coefficients, gravity,
-                                           dt);
+    compute_sphere_wall_contacts<Rolling>(particles, walls, wall_contacts, coefficients, dt);
     compute_sphere_pair_forces<Rolling>(particles, pairs, coefficients, dt);
     return;
   }
-  apply_gravity_and_wall_forces<Rolling>(particles, walls, wall_contacts, coefficients, gravity, dt,
-                                         families.sphere_count, ListedRows{families.spheres});
-  apply_gravity_and_superquadric_wall_forces<Rolling>(
-      particles, shapes, walls, wall_contacts, coefficients, superquadric_settings, gravity, dt,
+  compute_sphere_wall_contacts<Rolling>(particles, walls, wall_contacts, coefficients, dt,
+                                        families.sphere_count, ListedRows{families.spheres});
+  compute_superquadric_wall_contacts<Rolling>(
+      particles, shapes, walls, wall_contacts, coefficients, superquadric_settings, dt,
       families.superquadric_count, ListedRows{families.superquadrics});
   compute_sphere_pair_forces<Rolling>(particles, pairs, coefficients, dt,
                                       families.sphere_pair_count,
@@ -442,7 +442,7 @@ void Engine::State::compute_forces() {
     compute_forces_of_families<true>();
   else
     compute_forces_of_families<false>();
-  gather_pair_forces(particles, pairs);
+  sum_forces(particles, gravity, wall_contacts, pairs);
 }
 
 void Engine::State::compute_forces_at_current_state() {
