@@ -6,7 +6,7 @@
 //               206 (2011) 269, model C without damping): M_r += -k_r w_roll dt,
 //               k_r = 2.25 S_n mu_r^2 R*^2, |M_r| <= mu_r R* F_n.
 // gamma_n is calibrated per material pair so that the coefficient of restitution is exactly the
-// input value (see material_table.cpp); gamma_t = gamma_n.
+// input value (damping_for_restitution, src/restitution.cpp); gamma_t = gamma_n.
 #include "../shapes/math.hpp"
 #include "../shapes/sphere.hpp"
 #include "types.hpp"

@@ -1,8 +1,8 @@
 #pragma once
-// Half candidate lists of sphere pairs within reach (r_i + r_j + skin), built by count -> scan ->
-// fill over the cell bins, with a reverse index so that each particle can gather the forces of
-// the pairs it belongs to in a fixed order, without atomics. Contact history moves from the old
-// list to the new one by stable particle ids.
+// Half candidate lists of particle pairs within reach (r_i + r_j + skin, r the bounding radius),
+// built by count -> scan -> fill over the cell bins, with a reverse index so that each particle can
+// gather the forces of the pairs it belongs to in a fixed order, without atomics. Contact history
+// moves from the old list to the new one by stable particle ids.
 #include "binning.hpp"
 #include "contact_law.hpp"
 
