@@ -1,6 +1,6 @@
 #pragma once
-// Sphere-sphere contact forces, one thread per candidate pair, stored per pair; then gathered
-// per particle by sum_forces (force_sum.hpp).
+// How a contact's force is stored per pair (the pair loop, families/pair_loop.hpp, calls it for
+// every pair type); summed per particle by sum_forces (force_sum.hpp).
 #include "pair_list.hpp"
 
 namespace kdem {
@@ -52,30 +52,5 @@ struct PairSlots {
     overlap(k) = geometry.overlap;
   }
 };
-
-// Sphere-sphere forces for `count` pairs, the m-th of which is row row_of(m) of the list.
-template <bool RollingResistance, class RowOf = AllRows>
-void compute_sphere_pair_forces(const ParticleViews& p, PairList& list,
-                                const CoefficientTable& table, double dt, int count = -1,
-                                RowOf row_of = RowOf{}) {
-  if (count < 0)
-    count = list.pair_count;
-  auto pair_i = list.pair_i, pair_j = list.pair_j;
-  const PairSlots slots(list);
-  Kokkos::parallel_for(
-      "kdem::sphere_pair_forces", RangePolicy(0, count), KOKKOS_LAMBDA(int m) {
-        const int k = row_of(m);
-        const int i = pair_i(k), j = pair_j(k);
-        const double ri = p.radius(i), rj = p.radius(j);
-        const ContactGeometry geometry =
-            sphere_sphere(load3(p.position, i), ri, load3(p.position, j), rj);
-        if (!geometry.touching) {
-          slots.clear(k);
-          return;
-        }
-        slots.apply<RollingResistance>(k, p, i, j, geometry, ri * rj / (ri + rj),
-                                       table(p.material(i), p.material(j)), dt);
-      });
-}
 
 } // namespace kdem

@@ -22,15 +22,15 @@ struct PairList {
   // the two torques of one force about two centres differ by the moment of the centres' offset.
   Vec3View torque_on_i;
   ScalarView overlap; // m, 0 when not touching; then all per-pair values above are 0 too
-  // Superquadric pairs only (empty in scenes of spheres): the Newton warm start (midway point
-  // relative to the midpoint of the two centres, m; multiplier, 0 = none) and the axis that last
-  // separated the bounding boxes.
+  // Pair types with an iterative narrow phase only (empty in scenes of spheres): the Newton
+  // warm start (midway point relative to the midpoint of the two centres, m; multiplier,
+  // 0 = none) and the axis that last separated the bounding boxes.
   Vec3View midway_point;
   ScalarView midway_multiplier;
   IndexView separating_axis;
-  // Separation certificate of a superquadric pair that did not touch (see
-  // SeparationCertificates): a lower bound on its gap, m (0 = none), and the centre offset
-  // x_j - x_i and turned angles of i and j when it was issued.
+  // Separation certificate of a pair that did not touch (see SeparationCertificates): a lower bound
+  // on its gap, m (0 = none), and the centre offset x_j - x_i and turned angles of i and j when it
+  // was issued.
   ScalarView separation_margin;
   Vec3View separation_offset;
   ScalarView turned_i_at_separation;
@@ -127,7 +127,7 @@ inline void fill_reverse_index(PairList& list, int particles) {
       });
 }
 
-inline void allocate_superquadric_pair_state(PairList& list) {
+inline void allocate_narrow_phase_state(PairList& list) {
   list.midway_point = Vec3View("pair_midway_point", list.pair_count);
   list.midway_multiplier = ScalarView("pair_midway_multiplier", list.pair_count);
   list.separating_axis = IndexView("pair_separating_axis", list.pair_count);
@@ -139,7 +139,7 @@ inline void allocate_superquadric_pair_state(PairList& list) {
 }
 
 inline PairList build_pair_list(const ParticleViews& p, const CellBins& bins, double skin,
-                                bool rolling_state, bool superquadric_state = false) {
+                                bool rolling_state, bool narrow_phase_state = false) {
   const int n = p.count;
   PairList list;
   IndexView half_count("half_count", n);
@@ -162,8 +162,8 @@ inline PairList build_pair_list(const ParticleViews& p, const CellBins& bins, do
   list.force_on_i = Vec3View("pair_force", pairs);
   list.torque_on_i = Vec3View("pair_torque_i", pairs);
   list.overlap = ScalarView("pair_overlap", pairs);
-  if (superquadric_state)
-    allocate_superquadric_pair_state(list);
+  if (narrow_phase_state)
+    allocate_narrow_phase_state(list);
   auto row_start = list.row_start;
   auto pair_i = list.pair_i, pair_j = list.pair_j;
   auto partner_id = list.partner_id;
@@ -213,12 +213,13 @@ KOKKOS_INLINE_FUNCTION int find_old_pair(const PairList& old, const IndexView& o
   return find_in_row(old.row_start, old.partner_id, old_row_of_id(b), a);
 }
 
-// Warm starts and separation certificates survive a rebuild. Flipped pairs: grad F_j +
+// Warm starts and separation certificates survive a rebuild. Flipped pairs (midway-point
+// method of implicit surfaces, shapes/superquadric_contact.hpp): grad F_j +
 // (1/lambda^2) grad F_i = 0, so the multiplier becomes 1/lambda; the box axes of i and j swap,
 // so the separating-axis hint is dropped; the certificate's offset changes sign and its turned
 // angles swap.
-inline void transfer_superquadric_pair_state(PairList& fresh, const PairList& old,
-                                             const IndexView& old_row_of_id, const IdView& id) {
+inline void transfer_narrow_phase_state(PairList& fresh, const PairList& old,
+                                        const IndexView& old_row_of_id, const IdView& id) {
   auto pair_i = fresh.pair_i;
   auto partner = fresh.partner_id;
   auto point = fresh.midway_point;
@@ -232,7 +233,7 @@ inline void transfer_superquadric_pair_state(PairList& fresh, const PairList& ol
   auto turned_i = fresh.turned_i_at_separation, old_turned_i = old.turned_i_at_separation;
   auto turned_j = fresh.turned_j_at_separation, old_turned_j = old.turned_j_at_separation;
   Kokkos::parallel_for(
-      "kdem::superquadric_state_transfer", RangePolicy(0, fresh.pair_count), KOKKOS_LAMBDA(int k) {
+      "kdem::narrow_phase_state_transfer", RangePolicy(0, fresh.pair_count), KOKKOS_LAMBDA(int k) {
         bool flipped = false;
         const int found = find_old_pair(old, old_row_of_id, id(pair_i(k)), partner(k), flipped);
         if (found < 0)
@@ -282,7 +283,7 @@ inline void transfer_pair_history(PairList& fresh, const PairList& old,
             rolling(k, c) = sign * old_rolling(found, c);
       });
   if (fresh.midway_point.extent(0) > 0 && old.midway_point.extent(0) > 0)
-    transfer_superquadric_pair_state(fresh, old, old_row_of_id, id);
+    transfer_narrow_phase_state(fresh, old, old_row_of_id, id);
 }
 
 } // namespace kdem

@@ -76,8 +76,8 @@ struct WallElements {
   Vec3View vertex_edge_direction;  // unit vectors from the vertex along its edges
   IndexView vertex_triangle_start; // CSR over vertices
   IndexView vertex_triangle;       // elements around the vertex
-  // Superquadric contact (see superquadric_walls.hpp): stored triangle normals, the triangles
-  // of each edge, corner flags and the ring of neighbour vertices of each vertex.
+  // For bodies that are not spheres (see superquadric/walls.hpp): stored triangle normals, the
+  // triangles of each edge, corner flags and the ring of neighbour vertices of each vertex.
   Vec3View triangle_normal;
   DeviceView<int* [2]> edge_triangles;
   IndexView vertex_corner;
@@ -347,7 +347,7 @@ struct WallContactGeometry {
 // The wall contacts of `count` particles (the m-th particle is row row_of(m)), stored per
 // candidate entry like pair contacts and summed per particle by sum_forces. contact_of(i, e,
 // pose) gives the contact of particle i with element e of a wall at that pose; the particle
-// family decides how (spheres below, other families in their own wall kernels).
+// family decides how (SphereWallContact below; each family's wall_contact).
 template <bool RollingResistance, class RowOf, class ContactOf>
 void compute_wall_contacts(const std::string& label, const ParticleViews& p, const WallSet& walls,
                            WallContactList& list, const CoefficientTable& table, double dt,
@@ -424,16 +424,5 @@ struct SphereWallContact {
     return contact;
   }
 };
-
-// Spheres against walls: for `count` particles, the m-th being row row_of(m) (all particles by
-// default; the spheres of a mixed scene through their index list).
-template <bool RollingResistance, class RowOf = AllRows>
-void compute_sphere_wall_contacts(const ParticleViews& p, const WallSet& walls,
-                                  WallContactList& list, const CoefficientTable& table, double dt,
-                                  int count = -1, RowOf row_of = RowOf{}) {
-  compute_wall_contacts<RollingResistance>("kdem::sphere_wall_contacts", p, walls, list, table, dt,
-                                           count < 0 ? p.count : count, row_of,
-                                           SphereWallContact{walls.elements, p.position, p.radius});
-}
 
 } // namespace kdem

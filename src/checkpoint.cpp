@@ -139,6 +139,7 @@ void Engine::read_checkpoint(const std::string& path) {
   });
   s.wall_contacts.entry_count = int(in.read_scalar_int64("wall_entry_count"));
   allocate_wall_contact_results(s.wall_contacts);
+  s.families_present |= present_families(s.particles, s.shape_families);
   s.classify_families();
   update_wall_poses(s.walls, s.time);
 }

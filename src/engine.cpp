@@ -294,7 +294,7 @@ void Engine::State::append_particles(const std::vector<ParticleInit>& added) {
         p.shape == sphere_shape ? p.radius : template_bounding_radius[p.shape - 1];
     largest_radius = std::max(largest_radius, radius);
     smallest_radius = std::min(smallest_radius, radius);
-    has_superquadrics = has_superquadrics || p.shape != sphere_shape;
+    mark_family_present(p.shape);
   }
   needs_rebuild = true;
 }
@@ -401,7 +401,9 @@ void Engine::State::rebuild_lists() {
     cell_size = std::max(hi[0] - lo[0], 1e-3);
   const CellGrid grid = make_cell_grid(lo, hi, cell_size, 8'000'000);
   const CellBins bins = sort_particles_by_cell(particles, grid, scene.sort_by_cell);
-  PairList fresh_pairs = build_pair_list(particles, bins, list_skin, rolling, has_superquadrics);
+  families_present |= present_families(particles, shape_families);
+  PairList fresh_pairs =
+      build_pair_list(particles, bins, list_skin, rolling, needs_narrow_phase_state());
   if (pairs.pair_count > 0)
     transfer_pair_history(fresh_pairs, pairs, old_rows, particles.id);
   pairs = fresh_pairs;
@@ -417,24 +419,49 @@ void Engine::State::rebuild_lists() {
   ++list_builds;
 }
 
+void Engine::State::mark_family_present(int shape_id) {
+  families_present |= 1 << family_of_shape.at(shape_id);
+}
+
+bool Engine::State::rigid_rotation() const {
+  return any_present_family(families_present,
+                            [](auto tag) { return decltype(tag)::type::rigid_rotation; });
+}
+
+bool Engine::State::needs_narrow_phase_state() const {
+  return any_present_family(families_present,
+                            [](auto tag) { return decltype(tag)::type::iterative_narrow_phase; });
+}
+
+ContactContext Engine::State::contact_context() const {
+  ContactContext c;
+  c.particles = particles;
+  c.pairs = pairs;
+  c.walls = walls;
+  c.wall_contacts = wall_contacts;
+  c.coefficients = coefficients;
+  c.shape_families = shape_families;
+  c.tables = family_tables;
+  c.counters = narrow_phase;
+  c.dt = dt;
+  return c;
+}
+
+// The typed kernels of the families and pair types the scene holds, each over its rows.
 template <bool Rolling> void Engine::State::compute_forces_of_families() {
-  if (!families.mixed) {
-    compute_sphere_wall_contacts<Rolling>(particles, walls, wall_contacts, coefficients, dt);
-    compute_sphere_pair_forces<Rolling>(particles, pairs, coefficients, dt);
-    return;
-  }
-  compute_sphere_wall_contacts<Rolling>(particles, walls, wall_contacts, coefficients, dt,
-                                        families.sphere_count, ListedRows{families.spheres});
-  compute_superquadric_wall_contacts<Rolling>(
-      particles, shapes, walls, wall_contacts, coefficients, superquadric_settings, dt,
-      families.superquadric_count, ListedRows{families.superquadrics});
-  compute_sphere_pair_forces<Rolling>(particles, pairs, coefficients, dt,
-                                      families.sphere_pair_count,
-                                      ListedRows{families.sphere_pairs});
-  compute_sphere_superquadric_forces<Rolling>(particles, shapes, pairs, families, coefficients,
-                                              superquadric_settings, narrow_phase, dt);
-  compute_superquadric_pair_forces<Rolling>(particles, shapes, pairs, families, coefficients,
-                                            superquadric_settings, narrow_phase, dt);
+  const ContactContext c = contact_context();
+  const int present = families_present;
+  for_each_present_family(present, [&](auto tag) {
+    using F = typename decltype(tag)::type;
+    compute_family_wall_contacts<F, Rolling>(c, family_rows.of<F>());
+  });
+  for_each_pair_type<Families>([&](auto tag_a, auto tag_b) {
+    using A = typename decltype(tag_a)::type;
+    using B = typename decltype(tag_b)::type;
+    const int both = (1 << family_index_v<A, Families>) | (1 << family_index_v<B, Families>);
+    if ((present & both) == both)
+      compute_pair_type<A, B, Rolling>(c, family_rows.of_pair<A, B>());
+  });
 }
 
 void Engine::State::compute_forces() {
@@ -491,7 +518,7 @@ void Engine::step() {
 }
 
 void Engine::State::step() {
-  if (has_superquadrics)
+  if (rigid_rotation())
     kick_and_drift_rigid(particles, dt);
   else
     kick_and_drift(particles, dt);
@@ -500,7 +527,7 @@ void Engine::State::step() {
   if ((step_count + 1) % outlet_check_interval == 0)
     remove_discharged_particles();
   compute_forces_at_current_state();
-  if (has_superquadrics)
+  if (rigid_rotation())
     kick_rigid(particles, dt);
   else
     kick(particles, dt);

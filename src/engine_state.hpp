@@ -6,9 +6,8 @@
 
 #include "../kernels/binning.hpp"
 #include "../kernels/diagnostics.hpp"
+#include "../kernels/families/registry.hpp"
 #include "../kernels/pair_list.hpp"
-#include "../kernels/superquadric_pairs.hpp"
-#include "../kernels/superquadric_walls.hpp"
 #include "../kernels/walls.hpp"
 #include "engine.hpp"
 #include "generate.hpp"
@@ -49,10 +48,14 @@ struct Engine::State {
   std::vector<double> template_bounding_radius;   // m
   std::vector<double> template_equivalent_radius; // m, of the sphere of equal volume
   std::vector<int> source_shape;
-  ShapeTable shapes;
-  bool has_superquadrics = false;
-  FamilyLists families;
-  SuperquadricContactSettings superquadric_settings;
+  // Families: of each shape id (host and device), the template tables, which families the
+  // scene holds (bit f: family f of the registry; from its sources and particles), and the rows
+  // of each family and pair type at the last list build.
+  std::vector<int> family_of_shape;
+  ShapeFamilies shape_families;
+  ContactContext::Tables family_tables;
+  int families_present = 0;
+  EngineFamilyRows family_rows;
   NarrowPhaseCounters narrow_phase;
   ParticleViews particles;
   std::int64_t next_id = 0;
@@ -92,6 +95,10 @@ struct Engine::State {
   double wall_travel_since_build() const;
   bool lists_are_stale() const;
   void rebuild_lists();
+  void mark_family_present(int shape_id);
+  bool rigid_rotation() const;
+  bool needs_narrow_phase_state() const;
+  ContactContext contact_context() const;
   template <bool Rolling> void compute_forces_of_families();
   void compute_forces();
   void compute_forces_at_current_state();

@@ -9,6 +9,15 @@
 namespace kdem {
 namespace {
 
+IndexView upload_ints(const std::string& label, const std::vector<int>& values) {
+  IndexView view(label, values.size());
+  auto mirror = Kokkos::create_mirror_view(view);
+  for (std::size_t k = 0; k < values.size(); ++k)
+    mirror(k) = values[k];
+  Kokkos::deep_copy(view, mirror);
+  return view;
+}
+
 SuperquadricShape template_of(const ShapeConfig& config) {
   return make_superquadric(config.half_axes[0], config.half_axes[1], config.half_axes[2], config.n1,
                            config.n2);
@@ -16,13 +25,17 @@ SuperquadricShape template_of(const ShapeConfig& config) {
 
 } // namespace
 
+// Shape id 0 is a sphere; shape id k + 1 is entry k of the scene's shapes, a superquadric.
 void Engine::State::setup_shapes() {
   const int count = int(scene.shapes.size());
-  shapes.superquadric_count = count;
-  shapes.superquadric = DeviceView<SuperquadricShape*>("superquadric_templates", count);
-  shapes.equivalent_radius = ScalarView("superquadric_equivalent_radius", count);
-  auto shape_mirror = Kokkos::create_mirror_view(shapes.superquadric);
-  auto radius_mirror = Kokkos::create_mirror_view(shapes.equivalent_radius);
+  SuperquadricFamily::Table& table =
+      std::get<family_index_v<SuperquadricFamily, Families>>(family_tables);
+  table.shapes = DeviceView<SuperquadricShape*>("superquadric_templates", count);
+  table.equivalent_radius = ScalarView("superquadric_equivalent_radius", count);
+  auto shape_mirror = Kokkos::create_mirror_view(table.shapes);
+  auto radius_mirror = Kokkos::create_mirror_view(table.equivalent_radius);
+  std::vector<int> template_of_shape{0};
+  family_of_shape = {family_index_v<SphereFamily, Families>};
   for (int k = 0; k < count; ++k) {
     const SuperquadricShape shape = template_of(scene.shapes[k]);
     superquadric_templates.push_back(shape);
@@ -32,9 +45,13 @@ void Engine::State::setup_shapes() {
     template_equivalent_radius.push_back(std::cbrt(3.0 * template_volume.back() / (4.0 * pi)));
     shape_mirror(k) = shape;
     radius_mirror(k) = template_equivalent_radius.back();
+    family_of_shape.push_back(family_index_v<SuperquadricFamily, Families>);
+    template_of_shape.push_back(k);
   }
-  Kokkos::deep_copy(shapes.superquadric, shape_mirror);
-  Kokkos::deep_copy(shapes.equivalent_radius, radius_mirror);
+  Kokkos::deep_copy(table.shapes, shape_mirror);
+  Kokkos::deep_copy(table.equivalent_radius, radius_mirror);
+  shape_families.family_of_shape = upload_ints("shape_family", family_of_shape);
+  shape_families.template_of_shape = upload_ints("shape_template", template_of_shape);
 
   // A shaped source places bounding spheres; its volume fraction counts the true volume.
   for (ParticleSourceConfig& source : scene.sources) {
@@ -45,20 +62,20 @@ void Engine::State::setup_shapes() {
       source.sizes.kind = SizeDistributionConfig::Kind::Monodisperse;
       source.sizes.radius = template_bounding_radius[k];
       source.particle_volume_ratio = template_volume[k] / sphere_volume(source.sizes.radius);
-      has_superquadrics = true;
     }
     source_shape.push_back(id);
+    mark_family_present(id);
   }
 
-  superquadric_settings.curvature_limit = scene.superquadric_contact.curvature_limit;
-  superquadric_settings.separation_certificates =
-      scene.superquadric_contact.separation_certificates;
-  superquadric_settings.compact_candidates = scene.superquadric_contact.compact_candidates;
-  superquadric_settings.team_size = scene.superquadric_contact.team_size;
+  SuperquadricContactSettings& settings = table.settings;
+  settings.curvature_limit = scene.superquadric_contact.curvature_limit;
+  settings.separation_certificates = scene.superquadric_contact.separation_certificates;
+  settings.compact_candidates = scene.superquadric_contact.compact_candidates;
+  settings.team_size = scene.superquadric_contact.team_size;
   if (scene.superquadric_contact.tolerance > 0)
-    superquadric_settings.newton.tolerance = scene.superquadric_contact.tolerance;
+    settings.newton.tolerance = scene.superquadric_contact.tolerance;
   if (scene.superquadric_contact.max_iterations > 0)
-    superquadric_settings.newton.max_iterations = scene.superquadric_contact.max_iterations;
+    settings.newton.max_iterations = scene.superquadric_contact.max_iterations;
 }
 
 int shape_id_of(const SceneConfig& scene, const std::string& name) {
@@ -72,8 +89,13 @@ int Engine::shape_id(const std::string& shape_name) const {
   return shape_id_of(state_->scene, shape_name);
 }
 
+// With one family present (or none) its kernels run over all rows, without a sort.
 void Engine::State::classify_families() {
-  families = sort_into_families(particles, pairs, has_superquadrics);
+  int single_family = 0;
+  for (int f = 0; f < Families::size; ++f)
+    if (families_present & (1 << f))
+      single_family = (families_present & ~(1 << f)) == 0 ? f : -1;
+  family_rows = sort_into_families<Families>(particles, pairs, shape_families, single_family);
 }
 
 NarrowPhaseTotals Engine::narrow_phase_totals() const {

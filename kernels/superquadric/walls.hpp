@@ -4,10 +4,8 @@
 // posed in the wall's reference frame, the contact found there (planes: the deepest point of
 // book Eqs. 2.11-2.12; cylinders: the point furthest from the axis; triangles: face, edge or
 // vertex contact), and taken back to the world frame.
-#include "../shapes/superquadric_wall.hpp"
-#include "shape_table.hpp"
-#include "superquadric_pairs.hpp"
-#include "walls.hpp"
+#include "../../shapes/superquadric_wall.hpp"
+#include "pairs.hpp"
 
 namespace kdem {
 
@@ -76,34 +74,31 @@ superquadric_element_contact(const WallElements& el, int e, const PosedSuperquad
 // from the particle's curvature at its deepest point (a wall is flat or much larger).
 struct SuperquadricWallContactOf {
   WallElements el;
-  ShapeTable shapes;
+  SuperquadricFamily::Table table;
+  ShapeFamilies shapes;
   ParticleViews p;
   double limit = 2;
 
   KOKKOS_INLINE_FUNCTION WallContactGeometry operator()(int i, int e, const WallPose& wall) const {
-    const SuperquadricWallContact local =
-        superquadric_element_contact(el, e, in_wall_frame(posed_particle(shapes, p, i), wall));
+    const SuperquadricWallContact local = superquadric_element_contact(
+        el, e, in_wall_frame(SuperquadricFamily::pose(table, shapes, p, i), wall));
     WallContactGeometry contact;
     contact.geometry = local.geometry;
     if (!local.geometry.touching)
       return contact;
     contact.geometry.normal = rotate(wall.rotation, local.geometry.normal);
     contact.geometry.point = wall.to_world(local.geometry.point);
-    contact.effective_radius =
-        curvature_radius(local.curvature, 0.0, equivalent_radius_of(shapes, p, i), limit);
+    contact.effective_radius = curvature_radius(
+        local.curvature, 0.0, SuperquadricFamily::equivalent_radius(table, shapes, p, i), limit);
     return contact;
   }
 };
 
-template <bool RollingResistance, class RowOf>
-void compute_superquadric_wall_contacts(const ParticleViews& p, const ShapeTable& shapes,
-                                        const WallSet& walls, WallContactList& list,
-                                        const CoefficientTable& table,
-                                        const SuperquadricContactSettings& settings, double dt,
-                                        int count, RowOf row_of) {
-  compute_wall_contacts<RollingResistance>(
-      "kdem::superquadric_wall_contacts", p, walls, list, table, dt, count, row_of,
-      SuperquadricWallContactOf{walls.elements, shapes, p, settings.curvature_limit});
+inline SuperquadricWallContactOf SuperquadricFamily::wall_contact(const Table& t,
+                                                                  const ShapeFamilies& s,
+                                                                  const WallElements& elements,
+                                                                  const ParticleViews& p) {
+  return SuperquadricWallContactOf{elements, t, s, p, t.settings.curvature_limit};
 }
 
 } // namespace kdem

@@ -1,0 +1,124 @@
+#pragma once
+// Which family each particle belongs to, and the rows of each particle family and of each pair
+// type, rebuilt with the candidate lists: the typed kernels of a family or pair type run over
+// its rows only, and a pair type with no rows launches nothing.
+#include <string>
+
+#include "../pair_list.hpp"
+#include "family_list.hpp"
+
+namespace kdem {
+
+// Device map from a particle's shape id to its family (index in the family list) and to its
+// template within that family.
+struct ShapeFamilies {
+  IndexView family_of_shape;
+  IndexView template_of_shape;
+
+  KOKKOS_INLINE_FUNCTION int family(int shape) const { return family_of_shape(shape); }
+  KOKKOS_INLINE_FUNCTION int template_index(int shape) const { return template_of_shape(shape); }
+};
+
+// Rows of one particle family or one pair type: every row of the store in order (a scene of
+// one family), or the listed rows, ascending.
+struct RowSet {
+  int count = 0;
+  bool all = false;
+  IndexView listed;
+
+  KOKKOS_INLINE_FUNCTION int operator()(int m) const { return all ? m : listed(m); }
+};
+
+// The rows of one pair type, and work space that its kernels may size once per list build (a
+// prefilter's pass flags and survivors), so that a step allocates nothing.
+struct PairTypeRows {
+  RowSet rows;
+  IndexView passes, survivors;
+};
+
+// Per-key counts of a scan: the running count of rows of each key.
+template <int Keys> struct KeyCounts {
+  int n[Keys] = {};
+
+  KOKKOS_INLINE_FUNCTION KeyCounts& operator+=(const KeyCounts& o) {
+    for (int k = 0; k < Keys; ++k)
+      n[k] += o.n[k];
+    return *this;
+  }
+  KOKKOS_INLINE_FUNCTION void operator+=(const volatile KeyCounts& o) volatile {
+    for (int k = 0; k < Keys; ++k)
+      n[k] += o.n[k];
+  }
+};
+
+template <int Keys> struct KeyedViews { IndexView rows[Keys]; };
+
+// Sorts rows [0, count) by key_of(row) in [0, Keys), keeping the row order within a key (a
+// stable counting sort): one scan, one host wait for the totals and one fill, for any number
+// of keys.
+template <int Keys, class KeyOf>
+void rows_by_key(const std::string& label, int count, KeyOf key_of, RowSet (&sets)[Keys]) {
+  auto position = uninitialized<IndexView>(label + "_position", count);
+  KeyCounts<Keys> totals;
+  Kokkos::parallel_scan(
+      "kdem::rows_by_key", RangePolicy(0, count),
+      KOKKOS_LAMBDA(int row, KeyCounts<Keys>& running, bool final) {
+        const int key = key_of(row);
+        if (final)
+          position(row) = running.n[key];
+        running.n[key] += 1;
+      },
+      totals);
+  KeyedViews<Keys> keyed;
+  for (int k = 0; k < Keys; ++k) {
+    keyed.rows[k] = uninitialized<IndexView>(label + "_" + std::to_string(k), totals.n[k]);
+    sets[k] = RowSet{totals.n[k], false, keyed.rows[k]};
+  }
+  Kokkos::parallel_for(
+      "kdem::rows_by_key_fill", RangePolicy(0, count),
+      KOKKOS_LAMBDA(int row) { keyed.rows[key_of(row)](position(row)) = row; });
+}
+
+template <class List> struct FamilyRows {
+  static constexpr int families = List::size;
+  static constexpr int pair_types = pair_type_count(List::size);
+  RowSet particles[families];
+  PairTypeRows pairs[pair_types];
+
+  template <class F> const RowSet& of() const { return particles[family_index_v<F, List>]; }
+  template <class A, class B> PairTypeRows& of_pair() {
+    return pairs[pair_type_index_v<A, B, List>];
+  }
+};
+
+// The rows of each family and pair type. With one family present every particle and pair is
+// of it, and no sort runs; otherwise two key sorts (particles, pairs).
+template <class List>
+FamilyRows<List> sort_into_families(const ParticleViews& p, const PairList& list,
+                                    const ShapeFamilies& shapes, int single_family) {
+  FamilyRows<List> f;
+  if (single_family >= 0) {
+    f.particles[single_family] = RowSet{p.count, true, {}};
+    f.pairs[pair_type_index(single_family, single_family, List::size)].rows =
+        RowSet{list.pair_count, true, {}};
+    return f;
+  }
+  auto shape = p.shape;
+  rows_by_key<List::size>(
+      "family_rows", p.count, KOKKOS_LAMBDA(int i) { return shapes.family(shape(i)); },
+      f.particles);
+  auto pair_i = list.pair_i, pair_j = list.pair_j;
+  RowSet pair_sets[FamilyRows<List>::pair_types];
+  rows_by_key<FamilyRows<List>::pair_types>(
+      "pair_type_rows", list.pair_count,
+      KOKKOS_LAMBDA(int k) {
+        return pair_type_index(shapes.family(shape(pair_i(k))), shapes.family(shape(pair_j(k))),
+                               List::size);
+      },
+      pair_sets);
+  for (int t = 0; t < FamilyRows<List>::pair_types; ++t)
+    f.pairs[t].rows = pair_sets[t];
+  return f;
+}
+
+} // namespace kdem

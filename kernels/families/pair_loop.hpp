@@ -1,0 +1,117 @@
+#pragma once
+// The one pair loop: for one pair type (families A, B), run its narrow phase over the rows the
+// type selects this step and apply the contact law to the contacts it finds, storing the force
+// per pair (summed per particle by sum_forces). NarrowPhase<A, B> is the pair type's functor:
+//   NarrowPhase(const ContactContext&)                  built on the host each step
+//   static constexpr const char* label;                 the kernel's name
+//   static constexpr bool tallied;                      iterative: its evaluations are counted
+//   int team_size;                                      layout of the kernel, see launch.hpp
+//   PairsToEvaluate select(const ContactContext&, PairTypeRows&) const
+//                                                       the rows to evaluate (may launch a
+//                                                       prefilter that clears rejected pairs)
+//   KOKKOS_FUNCTION PairOutcome operator()(const PairRef&, PairContact&, NarrowPhaseTally&) const
+// Included only by the translation units of kernels/pairs/, which instantiate it.
+#include <type_traits>
+
+#include "../launch.hpp"
+#include "../pair_forces.hpp"
+#include "registry.hpp"
+
+namespace kdem {
+
+// A candidate pair as its narrow phase sees it: the stored row k with bodies i and j, and the
+// same bodies as (a, b) with a of family A; flipped when a is j.
+struct PairRef {
+  int k, i, j;
+  int a, b;
+  bool flipped;
+};
+
+// What a narrow phase found: a contact (with its geometry, normal from b towards a, and Hertz
+// radius), no contact (the pair's stored contact is cleared), or nothing to do (a pair proven
+// apart keeps what it stores).
+enum class PairOutcome { touching, apart, unchanged };
+
+struct PairContact {
+  ContactGeometry geometry;
+  double effective_radius = 0; // m
+};
+
+// The rows a pair type evaluates this step: rows(s) for s < rows.count, except those with
+// passes(s) == 0 when flagged (a prefilter that did not compact its survivors).
+struct PairsToEvaluate {
+  RowSet rows;
+  IndexView passes;
+  bool flagged = false;
+
+  KOKKOS_INLINE_FUNCTION bool skipped(int s) const { return flagged && passes(s) == 0; }
+};
+
+template <class A, class B> struct NarrowPhase;
+
+// The narrow phases without a prefilter evaluate every row of their type.
+struct EveryRowOfTheType {
+  PairsToEvaluate select(const ContactContext&, PairTypeRows& type_rows) const {
+    return PairsToEvaluate{type_rows.rows, {}, false};
+  }
+};
+
+template <class A, class B, bool Rolling>
+void compute_pair_type(const ContactContext& c, PairTypeRows& type_rows) {
+  using Narrow = NarrowPhase<A, B>;
+  const Narrow narrow(c);
+  const PairsToEvaluate todo = narrow.select(c, type_rows);
+  if (todo.rows.count == 0)
+    return;
+  const PairSlots slots(c.pairs);
+  const ParticleViews p = c.particles;
+  auto pair_i = c.pairs.pair_i, pair_j = c.pairs.pair_j;
+  const ShapeFamilies shapes = c.shape_families;
+  const CoefficientTable table = c.coefficients;
+  const double dt = c.dt;
+  constexpr bool same_family = std::is_same_v<A, B>;
+  constexpr int family_a = family_index_v<A, Families>;
+  const auto body = KOKKOS_LAMBDA(int s, NarrowPhaseTally& tally) {
+    if (todo.skipped(s))
+      return;
+    const int k = todo.rows(s), i = pair_i(k), j = pair_j(k);
+    const bool flipped = !same_family && shapes.family(p.shape(i)) != family_a;
+    const PairRef ref{k, i, j, flipped ? j : i, flipped ? i : j, flipped};
+    PairContact contact;
+    const PairOutcome outcome = narrow(ref, contact, tally);
+    if (outcome == PairOutcome::unchanged)
+      return;
+    if (outcome == PairOutcome::apart) {
+      slots.clear(k);
+      return;
+    }
+    if (flipped)
+      contact.geometry.normal = -contact.geometry.normal;
+    slots.template apply<Rolling>(k, p, i, j, contact.geometry, contact.effective_radius,
+                                  table(p.material(i), p.material(j)), dt);
+  };
+  const auto untallied = KOKKOS_LAMBDA(int s) {
+    NarrowPhaseTally unused;
+    body(s, unused);
+  };
+  if constexpr (Narrow::tallied) {
+    reduce_over_items<NarrowPhaseTally>(Narrow::label, todo.rows.count, narrow.team_size, body,
+                                        c.counters.reducer());
+    c.counters.add_kernel_tally();
+  } else {
+    Kokkos::parallel_for(Narrow::label, RangePolicy(0, todo.rows.count), untallied);
+  }
+}
+
+// The one wall loop of a family: its wall-contact functor over its particles' wall candidates.
+template <class F, bool Rolling>
+void compute_family_wall_contacts(const ContactContext& c, const RowSet& rows) {
+  if (rows.count == 0)
+    return;
+  WallContactList list = c.wall_contacts;
+  compute_wall_contacts<Rolling>(
+      F::wall_label, c.particles, c.walls, list, c.coefficients, c.dt, rows.count, rows,
+      F::wall_contact(c.template table<F>(), c.shape_families, c.walls.elements, c.particles));
+}
+
+} // namespace kdem

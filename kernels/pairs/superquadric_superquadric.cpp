@@ -1,0 +1,12 @@
+// Pair type superquadric-superquadric: prefilter, then the midway-point Newton narrow phase.
+#include "../superquadric/pairs.hpp"
+
+namespace kdem {
+
+template void
+compute_pair_type<SuperquadricFamily, SuperquadricFamily, false>(const ContactContext&,
+                                                                 PairTypeRows&);
+template void compute_pair_type<SuperquadricFamily, SuperquadricFamily, true>(const ContactContext&,
+                                                                              PairTypeRows&);
+
+} // namespace kdem

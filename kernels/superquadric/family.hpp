@@ -1,0 +1,53 @@
+#pragma once
+// The superquadric family (book Eq. 2.1): a template per scene shape (shape id k + 1 for entry
+// k of the scene's `shapes`), the particle's radius is its template's bounding radius, and
+// contacts come from the midway-point Newton narrow phase (pairs.hpp) and the deepest-point
+// wall contacts (walls.hpp).
+#include "../../shapes/superquadric.hpp"
+#include "../../shapes/superquadric_contact.hpp"
+#include "../families/family_rows.hpp"
+#include "../walls.hpp"
+
+namespace kdem {
+
+// Newton controls, contact-radius rule and kernel layout of the superquadric contacts.
+struct SuperquadricContactSettings {
+  NarrowPhaseControls newton;
+  double curvature_limit = 2;
+  bool separation_certificates = true; // see SeparationCertificates
+  bool compact_candidates = true;      // see superquadric_pairs_in_reach
+  int team_size = 0;                   // of the narrow-phase kernel, see reduce_over_items
+};
+
+struct SuperquadricWallContactOf;
+
+struct SuperquadricFamily {
+  static constexpr const char* name = "superquadric";
+  static constexpr const char* wall_label = "kdem::superquadric_wall_contacts";
+  static constexpr bool rigid_rotation = true;
+  static constexpr bool surface_turns = true;
+  static constexpr bool iterative_narrow_phase = true;
+
+  struct Table {
+    DeviceView<SuperquadricShape*> shapes;
+    ScalarView equivalent_radius; // m, radius of the sphere of equal volume, per template
+    SuperquadricContactSettings settings;
+  };
+
+  KOKKOS_INLINE_FUNCTION static double equivalent_radius(const Table& t, const ShapeFamilies& s,
+                                                         const ParticleViews& p, int i) {
+    return t.equivalent_radius(s.template_index(p.shape(i)));
+  }
+
+  KOKKOS_INLINE_FUNCTION static PosedSuperquadric pose(const Table& t, const ShapeFamilies& s,
+                                                       const ParticleViews& p, int i) {
+    return pose_superquadric(t.shapes(s.template_index(p.shape(i))), load3(p.position, i),
+                             load_quat(p.orientation, i));
+  }
+
+  static SuperquadricWallContactOf wall_contact(const Table& t, const ShapeFamilies& s,
+                                                const WallElements& elements,
+                                                const ParticleViews& p);
+};
+
+} // namespace kdem

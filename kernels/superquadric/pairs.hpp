@@ -1,0 +1,253 @@
+#pragma once
+// The pair types with superquadrics, as narrow-phase functors of the one pair loop
+// (families/pair_loop.hpp):
+//   superquadric-superquadric: exact bounding-sphere test, the separation certificate of the
+//     last steps (SeparationCertificates), then the oriented-box test (its last separating axis
+//     is tried first; skipped for pairs that touched at the last step), survivors compacted
+//     with a scan, then the midway-point Newton narrow phase on the compacted list only, so
+//     that no lane idles in the expensive kernel for pairs that the cheap tests rule out;
+//   sphere-superquadric: the closest-point narrow phase, on the candidate pairs of that type
+//     within bounding-sphere reach and without a valid separation certificate.
+// Included only by the translation units of kernels/pairs/.
+#include "../../shapes/superquadric_contact.hpp"
+#include "../../shapes/superquadric_properties.hpp"
+#include "../families/pair_loop.hpp"
+
+namespace kdem {
+
+// Hertz radius from the surface curvatures at the contact (the "mean curvature" variant of
+// Podlozhnyuk et al., Comput. Part. Mech. 4 (2017) 101): R* = 1 / (kappa_i + kappa_j), kept
+// within [1/limit, limit] x the R* of the volume-equivalent spheres. Flat faces have
+// kappa -> 0 and would make the contact infinitely stiff; sharp corners kappa -> infinity and
+// would make it infinitely soft; the limits keep the stiffness, and so the stable time step,
+// within a factor sqrt(limit) of the equivalent spheres'.
+KOKKOS_INLINE_FUNCTION double curvature_radius(double curvature_i, double curvature_j,
+                                               double equivalent_radius, double limit) {
+  const double curvature = curvature_i + curvature_j;
+  const double lowest = equivalent_radius / limit, highest = equivalent_radius * limit;
+  if (!(curvature > 0))
+    return highest;
+  return math::clamp(1.0 / curvature, lowest, highest);
+}
+
+// Separation certificates: a pair that did not touch gets a lower bound G on its gap
+// (NarrowPhaseResult::separation) with its centre offset and the turned angles of both bodies at
+// that step. A point of body i moves by at most |delta x_i| + theta_i r_i (theta_i the angle it
+// turned since, r_i its bounding radius; turning a sphere moves none of its surface), so while
+// |delta (x_j - x_i)| + theta_i r_i + theta_j r_j < G the pair cannot touch: it skips the box
+// test and the narrow phase and keeps its warm start.
+struct SeparationCertificates {
+  ParticleViews p;
+  ScalarView margin;
+  Vec3View offset;
+  ScalarView turned_i, turned_j;
+  bool enabled = true; // false: none issued, so every pair is tested every step
+
+  SeparationCertificates(const ParticleViews& p_, const PairList& list, bool enabled_)
+      : p(p_), margin(list.separation_margin), offset(list.separation_offset),
+        turned_i(list.turned_i_at_separation), turned_j(list.turned_j_at_separation),
+        enabled(enabled_) {}
+
+  // i_turns, j_turns: turning the body moves its surface (not a sphere's).
+  KOKKOS_INLINE_FUNCTION bool still_apart(int k, int i, int j, bool i_turns, bool j_turns) const {
+    const double gap = margin(k);
+    if (!enabled || !(gap > 0)) // disabled: also those read from a checkpoint are ignored
+      return false;
+    const double reach_i = i_turns ? p.radius(i) : 0.0, reach_j = j_turns ? p.radius(j) : 0.0;
+    const Vec3 moved = load3(p.position, j) - load3(p.position, i) - load3(offset, k);
+    const double reach = norm(moved) + (p.turned_angle(i) - turned_i(k)) * reach_i +
+                         (p.turned_angle(j) - turned_j(k)) * reach_j;
+    return reach < gap;
+  }
+  KOKKOS_INLINE_FUNCTION void issue(int k, int i, int j, double separation) const {
+    margin(k) = enabled ? separation : 0.0;
+    if (margin(k) > 0) {
+      store3(offset, k, load3(p.position, j) - load3(p.position, i));
+      turned_i(k) = p.turned_angle(i);
+      turned_j(k) = p.turned_angle(j);
+    }
+  }
+  KOKKOS_INLINE_FUNCTION void revoke(int k) const { margin(k) = 0; }
+};
+
+// Superquadric pairs that pass the exact bounding-sphere test, hold no valid separation
+// certificate and pass the oriented-box test, as rows of the pair list; the pairs that fail
+// have their contact cleared and their warm start dropped. With `compact` the survivors are
+// gathered by a scan, so that no lane of the narrow-phase kernel idles on a rejected pair;
+// without, that kernel runs over every candidate and skips the rejected ones. The pass flags
+// and survivors are sized once per list build.
+inline PairsToEvaluate superquadric_pairs_in_reach(const ParticleViews& p,
+                                                   const SuperquadricFamily::Table& table,
+                                                   const ShapeFamilies& shapes, PairList& list,
+                                                   PairTypeRows& type_rows, bool use_certificates,
+                                                   bool compact) {
+  const RowSet rows = type_rows.rows;
+  const int candidates = rows.count;
+  if (int(type_rows.passes.extent(0)) != candidates) {
+    type_rows.passes = uninitialized<IndexView>("superquadric_pair_passes", candidates);
+    type_rows.survivors = uninitialized<IndexView>("superquadric_pairs_left", candidates);
+  }
+  auto passes = type_rows.passes;
+  auto pairs_left = type_rows.survivors;
+  auto pair_i = list.pair_i, pair_j = list.pair_j;
+  auto axis = list.separating_axis;
+  auto multiplier = list.midway_multiplier;
+  auto overlap = list.overlap;
+  const PairSlots slots(list);
+  const SeparationCertificates certificates(p, list, use_certificates);
+  Kokkos::parallel_for(
+      "kdem::superquadric_pair_prefilter", RangePolicy(0, candidates), KOKKOS_LAMBDA(int m) {
+        const int k = rows(m), i = pair_i(k), j = pair_j(k);
+        const double reach = p.radius(i) + p.radius(j);
+        bool near = norm2(load3(p.position, i) - load3(p.position, j)) < reach * reach;
+        if (near && certificates.still_apart(k, i, j, true, true)) {
+          passes(m) = 0;
+          return;
+        }
+        // Pairs that touched at the last step almost surely still do: the box test is skipped
+        // for them (the book's suggestion, Sect. 2.2.1); the narrow phase decides.
+        if (near && overlap(k) == 0) {
+          int hint = axis(k);
+          near = bounding_boxes_overlap(SuperquadricFamily::pose(table, shapes, p, i),
+                                        SuperquadricFamily::pose(table, shapes, p, j), hint);
+          axis(k) = hint;
+        }
+        passes(m) = near ? 1 : 0;
+        if (!near) {
+          slots.clear(k);
+          multiplier(k) = 0;
+          certificates.revoke(k);
+        }
+      });
+  if (!compact)
+    return PairsToEvaluate{rows, passes, true};
+  int survivors = 0;
+  Kokkos::parallel_scan(
+      "kdem::superquadric_pair_compact", RangePolicy(0, candidates),
+      KOKKOS_LAMBDA(int m, int& running, bool final) {
+        if (passes(m) == 0)
+          return;
+        if (final)
+          pairs_left(running) = rows(m);
+        ++running;
+      },
+      survivors);
+  return PairsToEvaluate{RowSet{survivors, false, pairs_left}, passes, false};
+}
+
+// What the superquadric narrow phases share: the warm starts they read and write, the tally,
+// the certificates, and how a narrow-phase result becomes the pair's contact.
+struct SuperquadricPairState {
+  ParticleViews p;
+  SuperquadricFamily::Table table;
+  ShapeFamilies shapes;
+  Vec3View point;
+  ScalarView multiplier;
+  SeparationCertificates certificates;
+  NarrowPhaseControls controls;
+  double limit = 2;
+  int team_size = 0;
+
+  explicit SuperquadricPairState(const ContactContext& c)
+      : p(c.particles), table(c.table<SuperquadricFamily>()), shapes(c.shape_families),
+        point(c.pairs.midway_point), multiplier(c.pairs.midway_multiplier),
+        certificates(c.particles, c.pairs, table.settings.separation_certificates),
+        controls(table.settings.newton), limit(table.settings.curvature_limit),
+        team_size(table.settings.team_size) {}
+
+  // The stored point is relative to the midpoint of the two centres, so that it moves with the
+  // pair's mean translation (and is the same for both orders of i and j).
+  KOKKOS_INLINE_FUNCTION Vec3 centres_midpoint(int i, int j) const {
+    return 0.5 * (load3(p.position, i) + load3(p.position, j));
+  }
+
+  KOKKOS_INLINE_FUNCTION MidwayState warm_start(int k, int i, int j) const {
+    MidwayState previous;
+    previous.point = load3(point, k) + centres_midpoint(i, j);
+    previous.multiplier = multiplier(k);
+    return previous;
+  }
+
+  template <class FamilyI, class FamilyJ>
+  KOKKOS_INLINE_FUNCTION double pair_equivalent_radius(int i, int j) const {
+    const double ri = equivalent_radius_of<FamilyI>(i), rj = equivalent_radius_of<FamilyJ>(j);
+    return ri * rj / (ri + rj);
+  }
+  template <class F> KOKKOS_INLINE_FUNCTION double equivalent_radius_of(int i) const {
+    if constexpr (std::is_same_v<F, SuperquadricFamily>)
+      return F::equivalent_radius(table, shapes, p, i);
+    else
+      return F::equivalent_radius(typename F::Table{}, shapes, p, i);
+  }
+
+  // Counts the evaluation, keeps its warm start and certificate, and gives the contact with
+  // the normal of the narrow phase's order (from its second body towards its first).
+  KOKKOS_INLINE_FUNCTION PairOutcome record(const PairRef& ref, const NarrowPhaseResult& r,
+                                            double equivalent_radius, PairContact& contact,
+                                            NarrowPhaseTally& tally) const {
+    tally.add(r);
+    store3(point, ref.k, r.state.point - centres_midpoint(ref.i, ref.j));
+    multiplier(ref.k) = r.state.multiplier;
+    certificates.issue(ref.k, ref.i, ref.j, r.separation);
+    if (!r.geometry.touching)
+      return PairOutcome::apart;
+    contact.geometry = r.geometry;
+    contact.effective_radius =
+        curvature_radius(r.curvature_i, r.curvature_j, equivalent_radius, limit);
+    return PairOutcome::touching;
+  }
+};
+
+template <> struct NarrowPhase<SuperquadricFamily, SuperquadricFamily> : SuperquadricPairState {
+  static constexpr const char* label = "kdem::superquadric_pair_forces";
+  static constexpr bool tallied = true;
+  PairList list;
+
+  explicit NarrowPhase(const ContactContext& c) : SuperquadricPairState(c), list(c.pairs) {}
+
+  PairsToEvaluate select(const ContactContext&, PairTypeRows& type_rows) const {
+    PairList pairs = list;
+    return superquadric_pairs_in_reach(p, table, shapes, pairs, type_rows,
+                                       table.settings.separation_certificates,
+                                       table.settings.compact_candidates);
+  }
+
+  KOKKOS_INLINE_FUNCTION PairOutcome operator()(const PairRef& r, PairContact& contact,
+                                                NarrowPhaseTally& tally) const {
+    const NarrowPhaseResult result = superquadric_pair_contact(
+        SuperquadricFamily::pose(table, shapes, p, r.i),
+        SuperquadricFamily::pose(table, shapes, p, r.j), warm_start(r.k, r.i, r.j), controls);
+    return record(r, result,
+                  pair_equivalent_radius<SuperquadricFamily, SuperquadricFamily>(r.i, r.j), contact,
+                  tally);
+  }
+};
+
+// The sphere is body a of the narrow phase (the loop turns the normal back when it is j).
+template <>
+struct NarrowPhase<SphereFamily, SuperquadricFamily> : SuperquadricPairState, EveryRowOfTheType {
+  static constexpr const char* label = "kdem::sphere_superquadric_forces";
+  static constexpr bool tallied = true;
+  explicit NarrowPhase(const ContactContext& c) : SuperquadricPairState(c) {}
+
+  KOKKOS_INLINE_FUNCTION PairOutcome operator()(const PairRef& r, PairContact& contact,
+                                                NarrowPhaseTally& tally) const {
+    const double reach = p.radius(r.i) + p.radius(r.j);
+    if (norm2(load3(p.position, r.i) - load3(p.position, r.j)) >= reach * reach) {
+      multiplier(r.k) = 0;
+      certificates.revoke(r.k);
+      return PairOutcome::apart;
+    }
+    if (certificates.still_apart(r.k, r.i, r.j, r.flipped, !r.flipped))
+      return PairOutcome::unchanged;
+    const NarrowPhaseResult result = sphere_superquadric_contact(
+        load3(p.position, r.a), p.radius(r.a), SuperquadricFamily::pose(table, shapes, p, r.b),
+        warm_start(r.k, r.i, r.j), controls);
+    const double radius = r.flipped
+                              ? pair_equivalent_radius<SuperquadricFamily, SphereFamily>(r.i, r.j)
+                              : pair_equivalent_radius<SphereFamily, SuperquadricFamily>(r.i, r.j);
+    return record(r, result, radius, contact, tally);
+  }
+};
+
+} // namespace kdem
