@@ -2,7 +2,8 @@
 // Velocity Verlet for translation. Rotation has two integrators:
 // - spheres (isotropic inertia): the angular velocity is kicked by the same half steps and the
 //   orientation advanced by the exact rotation of omega dt, then renormalised;
-// - rigid bodies with principal inertias I1, I2, I3 (superquadrics): the angular momentum is
+// - rigid bodies with principal inertias I1, I2, I3 (families with rigid_rotation): the angular
+// momentum is
 //   kicked by the torque, and the free rotation in between is the symmetric splitting of
 //   Dullweber, Leimkuhler & McLachlan (J. Chem. Phys. 107 (1997) 5840), the "NO_SQUISH" scheme
 //   of Miller et al. (J. Chem. Phys. 116 (2002) 8649) cited by the book (Ch. 6): exact

@@ -2,7 +2,7 @@
 // How a heavy kernel is laid out on the hardware: a flat range of items (Kokkos picks the GPU
 // block size), or teams of `team_size` lanes, one item per lane (team_size is then the CUDA
 // block size: fewer lanes per block leave more registers per lane to a register-heavy kernel
-// such as the superquadric narrow phase). On CPU backends a team is a group of threads; the
+// such as an iterative narrow phase). On CPU backends a team is a group of threads; the
 // size is clamped to what the backend allows.
 #include "types.hpp"
 

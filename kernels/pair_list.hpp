@@ -214,7 +214,7 @@ KOKKOS_INLINE_FUNCTION int find_old_pair(const PairList& old, const IndexView& o
 }
 
 // Warm starts and separation certificates survive a rebuild. Flipped pairs (midway-point
-// method of implicit surfaces, shapes/superquadric_contact.hpp): grad F_j +
+// method of implicit surfaces): grad F_j +
 // (1/lambda^2) grad F_i = 0, so the multiplier becomes 1/lambda; the box axes of i and j swap,
 // so the separating-axis hint is dropped; the certificate's offset changes sign and its turned
 // angles swap.

@@ -76,7 +76,7 @@ struct WallElements {
   Vec3View vertex_edge_direction;  // unit vectors from the vertex along its edges
   IndexView vertex_triangle_start; // CSR over vertices
   IndexView vertex_triangle;       // elements around the vertex
-  // For bodies that are not spheres (see superquadric/walls.hpp): stored triangle normals, the
+  // For bodies that are not spheres (their families' wall contact): stored triangle normals, the
   // triangles of each edge, corner flags and the ring of neighbour vertices of each vertex.
   Vec3View triangle_normal;
   DeviceView<int* [2]> edge_triangles;
