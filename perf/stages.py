@@ -12,7 +12,8 @@ FUNCTION_STAGES = [
               r"kdem::transfer_pair_history|kdem::build_wall_contact_list|"
               r"kdem::transfer_wall_history|kdem::sort_into_families|"
               r"kdem::max_displacement_squared|kdem::Engine::State::lists_are_stale|"
-              r"kdem::remember_build_positions|kdem::rows_by_id"),
+              r"kdem::remember_build_positions|kdem::rows_by_id|kdem::rows_by_key|"
+              r"kdem::present_families|kdem::Engine::State::classify_families"),
     ("walls", r"kdem::compute_\w*wall_contacts|kdem::update_wall_poses"),
     ("superquadric box tests", r"kdem::superquadric_pairs_in_reach"),
     ("superquadric narrow phase", r"kdem::superquadric_pair_contact|"
@@ -20,11 +21,12 @@ FUNCTION_STAGES = [
     # Hertz-Mindlin with history, shared by every pair kernel
     ("contact law", r"kdem::PairSlots::(apply|clear)|kdem::hertz_mindlin"),
     # the rest of the superquadric pair kernels: warm starts, certificates, counters
-    ("superquadric contacts", r"kdem::compute_superquadric_pair_forces|"
-                              r"kdem::compute_sphere_superquadric_forces|"
-                              r"kdem::SuperquadricPairKernel"),
+    ("superquadric contacts", r"kdem::compute_pair_type<kdem::\w+, kdem::SuperquadricFamily|"
+                              r"kdem::SuperquadricPairState|"
+                              r"kdem::NarrowPhase<kdem::\w+, kdem::SuperquadricFamily>"),
     # the sphere pair kernel is inlined into the function that calls the pair kernels
-    ("sphere contacts", r"kdem::compute_sphere_pair_forces|"
+    ("sphere contacts", r"kdem::compute_pair_type<kdem::SphereFamily, kdem::SphereFamily|"
+                        r"kdem::NarrowPhase<kdem::SphereFamily, kdem::SphereFamily>|"
                         r"kdem::Engine::State::compute_forces_of_families"),
     # gravity, wall and pair contributions summed per particle
     ("gather", r"kdem::sum_forces"),
@@ -38,7 +40,8 @@ KERNEL_STAGES = [
     ("binning", r"^kdem::(bin_count|bin_fill|bin_order_by_id|gather_rows)$"),
     ("lists", r"^kdem::(max_displacement|pair_count|pair_fill|pair_reverse_\w+|"
               r"pair_history_transfer|rows_by_id|wall_candidate_\w+|wall_history_transfer|"
-              r"flag_rows|kept_indices|exclusive_scan|superquadric_state_transfer)$"),
+              r"flag_rows|kept_indices|exclusive_scan|narrow_phase_state_transfer|"
+              r"rows_by_key|rows_by_key_fill|present_families)$"),
     ("walls", r"^kdem::(\w+_wall_contacts|wall_poses)$"),
     ("superquadric box tests", r"^kdem::superquadric_pair_(prefilter|compact)$"),
     ("superquadric contacts", r"^kdem::(superquadric_pair_forces|sphere_superquadric_forces)$"),

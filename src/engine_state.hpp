@@ -56,7 +56,7 @@ struct Engine::State {
   ContactContext::Tables family_tables;
   int families_present = 0;
   EngineFamilyRows family_rows;
-  NarrowPhaseCounters narrow_phase;
+  NarrowPhaseCounters narrow_phase = NarrowPhaseCounters::allocate();
   ParticleViews particles;
   std::int64_t next_id = 0;
   PairList pairs;

@@ -50,7 +50,14 @@ namespace kdem {
 struct NarrowPhaseCounters {
   DeviceView<NarrowPhaseTally> totals;
   DeviceView<NarrowPhaseTally> kernel_tally;
-  NarrowPhaseCounters() : totals("narrow_phase_totals"), kernel_tally("narrow_phase_tally") {}
+  // Empty handles (a context that is assigned its counters later allocates nothing).
+  NarrowPhaseCounters() = default;
+  static NarrowPhaseCounters allocate() {
+    NarrowPhaseCounters c;
+    c.totals = DeviceView<NarrowPhaseTally>("narrow_phase_totals");
+    c.kernel_tally = DeviceView<NarrowPhaseTally>("narrow_phase_tally");
+    return c;
+  }
 
   Kokkos::Sum<NarrowPhaseTally, MemSpace> reducer() const {
     return Kokkos::Sum<NarrowPhaseTally, MemSpace>(kernel_tally);
