@@ -56,21 +56,26 @@ struct ContactStatistics {
   double largest_overlap_ratio = 0; // overlap / smaller radius
 };
 
+// Contact points of all pairs (a pair may have several), and the deepest relative to the smaller
+// bounding radius of its pair.
 inline ContactStatistics pair_contact_statistics(const ParticleViews& p, const PairList& list) {
   auto overlap = list.overlap;
   auto pair_i = list.pair_i, pair_j = list.pair_j;
+  const ContactSlots slots = list.slots();
   auto radius = p.radius;
   int contacts = 0;
   double largest = 0;
   Kokkos::parallel_reduce(
       "kdem::pair_contact_statistics", RangePolicy(0, list.pair_count),
       KOKKOS_LAMBDA(int k, int& count, double& m) {
-        if (overlap(k) <= 0)
-          return;
-        ++count;
-        const double ratio = overlap(k) / math::min(radius(pair_i(k)), radius(pair_j(k)));
-        if (ratio > m)
-          m = ratio;
+        for (int s = slots.first(k); s < slots.end(k); ++s) {
+          if (overlap(s) <= 0)
+            continue;
+          ++count;
+          const double ratio = overlap(s) / math::min(radius(pair_i(k)), radius(pair_j(k)));
+          if (ratio > m)
+            m = ratio;
+        }
       },
       contacts, Kokkos::Max<double>(largest));
   return {contacts, math::max(largest, 0.0)};

@@ -5,31 +5,67 @@
 
 namespace kdem {
 
-// The per-pair results a contact writes, and how it clears them when it ends.
+// A contact point a narrow phase found: its geometry (normal from the second body towards the
+// first, as the narrow phase orders them), its Hertz radius, and the features of the two bodies
+// that touch (0 and 0 for bodies with one contact point), which key its history.
+struct PairContact {
+  ContactGeometry geometry;
+  double effective_radius = 0; // m
+  int feature_a = 0, feature_b = 0;
+};
+
+// Up to K contact points of one pair, in the narrow phase's order.
+template <int K> struct PairContacts {
+  static_assert(K >= 1 && K <= 16, "a pair keeps a short list of contact points");
+  int count = 0;
+  PairContact contact[K];
+};
+
+// The per-contact and per-pair results a pair's contacts write, and how they are cleared when
+// the contacts end.
 struct PairSlots {
+  ContactSlots slots;
   Vec3View spring, rolling, force_on_i, torque_on_i;
   ScalarView overlap;
+  IndexView feature_i, feature_j;
 
   explicit PairSlots(const PairList& list)
-      : spring(list.tangential_spring), rolling(list.rolling_torque), force_on_i(list.force_on_i),
-        torque_on_i(list.torque_on_i), overlap(list.overlap) {}
+      : slots(list.slots()), spring(list.tangential_spring), rolling(list.rolling_torque),
+        force_on_i(list.force_on_i), torque_on_i(list.torque_on_i), overlap(list.overlap),
+        feature_i(list.feature_i), feature_j(list.feature_j) {}
 
-  KOKKOS_INLINE_FUNCTION void clear(int k) const {
-    if (overlap(k) == 0)
-      return; // every value is already zero (see PairList)
-    store3(spring, k, Vec3{});
+  KOKKOS_INLINE_FUNCTION void clear_slot(int s) const {
+    store3(spring, s, Vec3{});
     if (rolling.extent(0) > 0)
-      store3(rolling, k, Vec3{});
-    store3(force_on_i, k, Vec3{});
-    store3(torque_on_i, k, Vec3{});
-    overlap(k) = 0;
+      store3(rolling, s, Vec3{});
+    overlap(s) = 0;
+    if (!slots.single()) {
+      feature_i(s) = -1;
+      feature_j(s) = -1;
+    }
   }
 
-  // Hertz-Mindlin at a contact whose geometry is given with the normal from j towards i.
+  KOKKOS_INLINE_FUNCTION void clear(int k) const {
+    bool touched = false;
+    for (int s = slots.first(k); s < slots.end(k); ++s) {
+      if (overlap(s) == 0)
+        continue; // every value of the slot is already zero (see PairList)
+      clear_slot(s);
+      touched = true;
+    }
+    if (!touched)
+      return;
+    store3(force_on_i, k, Vec3{});
+    store3(torque_on_i, k, Vec3{});
+  }
+
+  // Hertz-Mindlin at one contact point (normal from j towards i) with the history `history`,
+  // which it advances; `torque` is the contact's torque on i about its centre.
   template <bool RollingResistance>
-  KOKKOS_INLINE_FUNCTION void apply(int k, const ParticleViews& p, int i, int j,
-                                    const ContactGeometry& geometry, double effective_radius,
-                                    const PairCoefficients& coefficients, double dt) const {
+  KOKKOS_INLINE_FUNCTION ContactOutput law(const ParticleViews& p, int i, int j,
+                                           const ContactGeometry& geometry, double effective_radius,
+                                           const PairCoefficients& coefficients, double dt,
+                                           ContactHistory& history, Vec3& torque) const {
     ContactInput in;
     in.geometry = geometry;
     const Vec3 xi = load3(p.position, i), xj = load3(p.position, j);
@@ -40,16 +76,84 @@ struct PairSlots {
     in.relative_angular_velocity = wi - wj;
     in.effective_radius = effective_radius;
     in.effective_mass = p.mass(i) * p.mass(j) / (p.mass(i) + p.mass(j));
-    ContactHistory history{load3(spring, k), Vec3{}};
-    if constexpr (RollingResistance)
-      history.rolling_torque = load3(rolling, k);
     const ContactOutput out = hertz_mindlin<RollingResistance>(coefficients, in, dt, history);
-    store3(spring, k, history.tangential_spring);
+    torque = cross(point - xi, out.force_on_i) + out.rolling_torque_on_i;
+    return out;
+  }
+
+  template <bool RollingResistance> KOKKOS_INLINE_FUNCTION ContactHistory history_of(int s) const {
+    ContactHistory history{load3(spring, s), Vec3{}};
     if constexpr (RollingResistance)
-      store3(rolling, k, history.rolling_torque);
+      history.rolling_torque = load3(rolling, s);
+    return history;
+  }
+
+  template <bool RollingResistance>
+  KOKKOS_INLINE_FUNCTION void keep_history(int s, const ContactHistory& history,
+                                           double overlap_now) const {
+    store3(spring, s, history.tangential_spring);
+    if constexpr (RollingResistance)
+      store3(rolling, s, history.rolling_torque);
+    overlap(s) = overlap_now;
+  }
+
+  // The contact point of a pair with one slot.
+  template <bool RollingResistance>
+  KOKKOS_INLINE_FUNCTION void apply(int k, const ParticleViews& p, int i, int j,
+                                    const ContactGeometry& geometry, double effective_radius,
+                                    const PairCoefficients& coefficients, double dt) const {
+    const int s = slots.first(k);
+    ContactHistory history = history_of<RollingResistance>(s);
+    Vec3 torque;
+    const ContactOutput out = law<RollingResistance>(p, i, j, geometry, effective_radius,
+                                                     coefficients, dt, history, torque);
+    keep_history<RollingResistance>(s, history, geometry.overlap);
     store3(force_on_i, k, out.force_on_i);
-    store3(torque_on_i, k, cross(point - xi, out.force_on_i) + out.rolling_torque_on_i);
-    overlap(k) = geometry.overlap;
+    store3(torque_on_i, k, torque);
+  }
+
+  // Several contact points of pair k, normals from j towards i; each takes the history of the
+  // slot that held the same features (of i, of j) at the last step, or a fresh one, and they are
+  // written to the pair's slots in the narrow phase's order (slots left over are cleared). The
+  // pair's force and torque are their sums in that order. `flipped`: the narrow phase's first
+  // body is j.
+  template <bool RollingResistance, int K>
+  KOKKOS_INLINE_FUNCTION void apply_several(int k, const ParticleViews& p, int i, int j,
+                                            const PairContacts<K>& found, bool flipped,
+                                            const PairCoefficients& coefficients, double dt) const {
+    const int first = slots.first(k), capacity = slots.end(k) - first;
+    const int kept = capacity < K ? capacity : K;
+    int last_i[K], last_j[K];
+    ContactHistory last_history[K];
+    for (int m = 0; m < kept; ++m) {
+      last_i[m] = feature_i(first + m);
+      last_j[m] = feature_j(first + m);
+      last_history[m] = history_of<RollingResistance>(first + m);
+    }
+    const int count = found.count < kept ? found.count : kept;
+    Vec3 force, torque;
+    for (int c = 0; c < count; ++c) {
+      const PairContact& contact = found.contact[c];
+      const int on_i = flipped ? contact.feature_b : contact.feature_a;
+      const int on_j = flipped ? contact.feature_a : contact.feature_b;
+      ContactHistory history{};
+      for (int m = 0; m < kept; ++m)
+        if (last_i[m] == on_i && last_j[m] == on_j)
+          history = last_history[m];
+      Vec3 contact_torque;
+      const ContactOutput out =
+          law<RollingResistance>(p, i, j, contact.geometry, contact.effective_radius, coefficients,
+                                 dt, history, contact_torque);
+      keep_history<RollingResistance>(first + c, history, contact.geometry.overlap);
+      feature_i(first + c) = on_i;
+      feature_j(first + c) = on_j;
+      force = c == 0 ? out.force_on_i : force + out.force_on_i;
+      torque = c == 0 ? contact_torque : torque + contact_torque;
+    }
+    for (int c = count; c < capacity; ++c)
+      clear_slot(first + c);
+    store3(force_on_i, k, force);
+    store3(torque_on_i, k, torque);
   }
 };
 

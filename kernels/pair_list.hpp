@@ -8,33 +8,55 @@
 
 namespace kdem {
 
+// Where the contact points of each pair live: pair k owns contact slots
+// [first(k), end(k)). With `start` empty every pair has one slot, slot k (scenes whose pair
+// types all have one contact point); otherwise start has pair_count + 1 entries.
+struct ContactSlots {
+  IndexView start;
+
+  KOKKOS_INLINE_FUNCTION bool single() const { return start.extent(0) == 0; }
+  KOKKOS_INLINE_FUNCTION int first(int k) const { return single() ? k : start(k); }
+  KOKKOS_INLINE_FUNCTION int end(int k) const { return single() ? k + 1 : start(k + 1); }
+};
+
 struct PairList {
   int pair_count = 0;
   IndexView row_start; // particle_count + 1: pairs (i, j after i in cell order) are owned by i
   IndexView pair_i, pair_j;
-  IdView partner_id;          // stable id of j, the key for history transfer
-  IndexView reverse_start;    // particle_count + 1
-  IndexView reverse_pair;     // pairs in which the particle is j
-  Vec3View tangential_spring; // history, see ContactHistory
-  Vec3View rolling_torque;    // history; empty when no material pair has rolling resistance
-  Vec3View force_on_i;        // N, per pair, this step
-  // N m, on i about its centre. The torque on j is not stored: it is (x_j - x_i) x F - T_i, as
-  // the two torques of one force about two centres differ by the moment of the centres' offset.
+  IdView partner_id;       // stable id of j, the key for history transfer
+  IndexView reverse_start; // particle_count + 1
+  IndexView reverse_pair;  // pairs in which the particle is j
+  // Per contact slot (see ContactSlots): its history, keyed by the features of i and of j that
+  // touch (an element, octant or surface point of each body; empty when every pair has one
+  // slot, whose features are then 0 and 0), and its overlap.
+  IndexView contact_start; // see ContactSlots
+  int slot_count = 0;
+  IndexView feature_i, feature_j; // -1: the slot is free
+  Vec3View tangential_spring;     // history, see ContactHistory
+  Vec3View rolling_torque;        // history; empty when no material pair has rolling resistance
+  ScalarView overlap;             // m, 0 when not touching; then the slot's history is 0 too
+  // Per pair: the sum of the forces of its contacts on i this step, N, and their torque on i
+  // about its centre, N m. The torque on j is not stored: it is (x_j - x_i) x F - T_i, as the
+  // two torques of one force about two centres differ by the moment of the centres' offset.
+  // Both are 0 when no slot of the pair touches.
+  Vec3View force_on_i;
   Vec3View torque_on_i;
-  ScalarView overlap; // m, 0 when not touching; then all per-pair values above are 0 too
   // Pair types with an iterative narrow phase only (empty in scenes of spheres): the Newton
-  // warm start (midway point relative to the midpoint of the two centres, m; multiplier,
-  // 0 = none) and the axis that last separated the bounding boxes.
+  // warm start per slot (midway point relative to the midpoint of the two centres, m;
+  // multiplier, 0 = none) and per pair the axis that last separated the bounding boxes.
   Vec3View midway_point;
   ScalarView midway_multiplier;
   IndexView separating_axis;
-  // Separation certificate of a pair that did not touch (see SeparationCertificates): a lower bound
-  // on its gap, m (0 = none), and the centre offset x_j - x_i and turned angles of i and j when it
-  // was issued.
+  // Separation certificate of a pair that did not touch (see SeparationCertificates): a lower
+  // bound on its gap, m (0 = none), and the centre offset x_j - x_i and turned angles of i and j
+  // when it was issued.
   ScalarView separation_margin;
   Vec3View separation_offset;
   ScalarView turned_i_at_separation;
   ScalarView turned_j_at_separation;
+
+  ContactSlots slots() const { return ContactSlots{contact_start}; }
+  bool one_slot_per_pair() const { return contact_start.extent(0) == 0; }
 };
 
 template <class Visitor> void for_each_pair_list_field(Visitor&& visit) {
@@ -44,6 +66,9 @@ template <class Visitor> void for_each_pair_list_field(Visitor&& visit) {
   visit("partner_id", &PairList::partner_id);
   visit("reverse_start", &PairList::reverse_start);
   visit("reverse_pair", &PairList::reverse_pair);
+  visit("contact_start", &PairList::contact_start);
+  visit("feature_i", &PairList::feature_i);
+  visit("feature_j", &PairList::feature_j);
   visit("tangential_spring", &PairList::tangential_spring);
   visit("rolling_torque", &PairList::rolling_torque);
   visit("force_on_i", &PairList::force_on_i);
@@ -128,8 +153,8 @@ inline void fill_reverse_index(PairList& list, int particles) {
 }
 
 inline void allocate_narrow_phase_state(PairList& list) {
-  list.midway_point = Vec3View("pair_midway_point", list.pair_count);
-  list.midway_multiplier = ScalarView("pair_midway_multiplier", list.pair_count);
+  list.midway_point = Vec3View("pair_midway_point", list.slot_count);
+  list.midway_multiplier = ScalarView("pair_midway_multiplier", list.slot_count);
   list.separating_axis = IndexView("pair_separating_axis", list.pair_count);
   Kokkos::deep_copy(list.separating_axis, -1);
   list.separation_margin = ScalarView("pair_separation_margin", list.pair_count);
@@ -138,8 +163,9 @@ inline void allocate_narrow_phase_state(PairList& list) {
   list.turned_j_at_separation = ScalarView("pair_turned_j_at_separation", list.pair_count);
 }
 
-inline PairList build_pair_list(const ParticleViews& p, const CellBins& bins, double skin,
-                                bool rolling_state, bool narrow_phase_state = false) {
+// The candidate pairs, their owner rows and the reverse index; no contact state yet (see
+// allocate_pair_contacts).
+inline PairList build_pair_list(const ParticleViews& p, const CellBins& bins, double skin) {
   const int n = p.count;
   PairList list;
   IndexView half_count("half_count", n);
@@ -156,14 +182,6 @@ inline PairList build_pair_list(const ParticleViews& p, const CellBins& bins, do
   list.pair_i = uninitialized<IndexView>("pair_i", pairs);
   list.pair_j = uninitialized<IndexView>("pair_j", pairs);
   list.partner_id = uninitialized<IdView>("partner_id", pairs);
-  list.tangential_spring = Vec3View("tangential_spring", pairs);
-  if (rolling_state)
-    list.rolling_torque = Vec3View("rolling_torque", pairs);
-  list.force_on_i = Vec3View("pair_force", pairs);
-  list.torque_on_i = Vec3View("pair_torque_i", pairs);
-  list.overlap = ScalarView("pair_overlap", pairs);
-  if (narrow_phase_state)
-    allocate_narrow_phase_state(list);
   auto row_start = list.row_start;
   auto pair_i = list.pair_i, pair_j = list.pair_j;
   auto partner_id = list.partner_id;
@@ -180,6 +198,38 @@ inline PairList build_pair_list(const ParticleViews& p, const CellBins& bins, do
       });
   fill_reverse_index(list, n);
   return list;
+}
+
+// Gives pair k slots_of(k) contact slots (count, scan); without this every pair has one.
+template <class SlotsOf> void assign_contact_slots(PairList& list, SlotsOf slots_of) {
+  IndexView counts = uninitialized<IndexView>("contact_slot_count", list.pair_count);
+  Kokkos::parallel_for(
+      "kdem::contact_slot_count", RangePolicy(0, list.pair_count),
+      KOKKOS_LAMBDA(int k) { counts(k) = slots_of(k); });
+  list.contact_start = exclusive_scan_with_total(counts, list.slot_count);
+}
+
+// The contact state of a pair list: per slot its history (features only with several slots per
+// pair), per pair its force and torque; the warm starts and certificates where a pair type
+// needs them.
+inline void allocate_pair_contacts(PairList& list, bool rolling_state, bool narrow_phase_state) {
+  if (list.one_slot_per_pair())
+    list.slot_count = list.pair_count;
+  const int slots = list.slot_count;
+  if (!list.one_slot_per_pair()) {
+    list.feature_i = IndexView("contact_feature_i", slots);
+    list.feature_j = IndexView("contact_feature_j", slots);
+    Kokkos::deep_copy(list.feature_i, -1);
+    Kokkos::deep_copy(list.feature_j, -1);
+  }
+  list.tangential_spring = Vec3View("tangential_spring", slots);
+  if (rolling_state)
+    list.rolling_torque = Vec3View("rolling_torque", slots);
+  list.overlap = ScalarView("pair_overlap", slots);
+  list.force_on_i = Vec3View("pair_force", list.pair_count);
+  list.torque_on_i = Vec3View("pair_torque_i", list.pair_count);
+  if (narrow_phase_state)
+    allocate_narrow_phase_state(list);
 }
 
 // row_of_id(stable id) = the row of that particle in the particle order of `old_list`, or -1.
@@ -213,15 +263,24 @@ KOKKOS_INLINE_FUNCTION int find_old_pair(const PairList& old, const IndexView& o
   return find_in_row(old.row_start, old.partner_id, old_row_of_id(b), a);
 }
 
+// Slot c of pair k in the fresh list takes the history of slot c of the same pair in the old
+// list (a pair type keeps its number of slots; its narrow phase writes contacts from slot 0 on).
+KOKKOS_INLINE_FUNCTION int shared_slots(const ContactSlots& fresh, int k, const ContactSlots& old,
+                                        int found) {
+  const int fresh_count = fresh.end(k) - fresh.first(k);
+  const int old_count = old.end(found) - old.first(found);
+  return fresh_count < old_count ? fresh_count : old_count;
+}
+
 // Warm starts and separation certificates survive a rebuild. Flipped pairs (midway-point
-// method of implicit surfaces): grad F_j +
-// (1/lambda^2) grad F_i = 0, so the multiplier becomes 1/lambda; the box axes of i and j swap,
-// so the separating-axis hint is dropped; the certificate's offset changes sign and its turned
-// angles swap.
+// method of implicit surfaces): grad F_j + (1/lambda^2) grad F_i = 0, so the multiplier becomes
+// 1/lambda; the box axes of i and j swap, so the separating-axis hint is dropped; the
+// certificate's offset changes sign and its turned angles swap.
 inline void transfer_narrow_phase_state(PairList& fresh, const PairList& old,
                                         const IndexView& old_row_of_id, const IdView& id) {
   auto pair_i = fresh.pair_i;
   auto partner = fresh.partner_id;
+  const ContactSlots slots = fresh.slots(), old_slots = old.slots();
   auto point = fresh.midway_point;
   auto multiplier = fresh.midway_multiplier;
   auto axis = fresh.separating_axis;
@@ -238,10 +297,14 @@ inline void transfer_narrow_phase_state(PairList& fresh, const PairList& old,
         const int found = find_old_pair(old, old_row_of_id, id(pair_i(k)), partner(k), flipped);
         if (found < 0)
           return;
-        for (int c = 0; c < 3; ++c)
-          point(k, c) = old_point(found, c);
-        const double lambda = old_multiplier(found);
-        multiplier(k) = flipped ? (lambda > 0 ? 1.0 / lambda : 0.0) : lambda;
+        const int shared = shared_slots(slots, k, old_slots, found);
+        for (int c = 0; c < shared; ++c) {
+          const int to = slots.first(k) + c, from = old_slots.first(found) + c;
+          for (int d = 0; d < 3; ++d)
+            point(to, d) = old_point(from, d);
+          const double lambda = old_multiplier(from);
+          multiplier(to) = flipped ? (lambda > 0 ? 1.0 / lambda : 0.0) : lambda;
+        }
         axis(k) = flipped ? -1 : old_axis(found);
         margin(k) = old_margin(found);
         const double sign = flipped ? -1.0 : 1.0;
@@ -252,35 +315,44 @@ inline void transfer_narrow_phase_state(PairList& fresh, const PairList& old,
       });
 }
 
-// Copies the history of every pair that was in the old list; a pair whose order of i and j
-// flipped gets its vectors negated (they are defined for the body i).
+// Copies the contact history of every pair that was in the old list, slot by slot; a pair whose
+// order of i and j flipped gets its vectors negated (they are defined for the body i) and the
+// features of its two bodies swapped. A list with one slot per pair has the features 0 and 0.
 inline void transfer_pair_history(PairList& fresh, const PairList& old,
                                   const IndexView& old_row_of_id, const IdView& id) {
   auto pair_i = fresh.pair_i;
   auto partner = fresh.partner_id;
+  const ContactSlots slots = fresh.slots(), old_slots = old.slots();
   auto spring = fresh.tangential_spring, rolling = fresh.rolling_torque;
-  auto old_start = old.row_start;
-  auto old_partner = old.partner_id;
   auto old_spring = old.tangential_spring, old_rolling = old.rolling_torque;
   auto overlap = fresh.overlap, old_overlap = old.overlap;
+  auto feature_i = fresh.feature_i, feature_j = fresh.feature_j;
+  auto old_feature_i = old.feature_i, old_feature_j = old.feature_j;
   const bool copy_rolling = rolling.extent(0) > 0 && old_rolling.extent(0) > 0;
+  const bool keyed = !fresh.one_slot_per_pair(), old_keyed = !old.one_slot_per_pair();
   Kokkos::parallel_for(
       "kdem::pair_history_transfer", RangePolicy(0, fresh.pair_count), KOKKOS_LAMBDA(int k) {
-        const std::int64_t a = id(pair_i(k)), b = partner(k);
-        double sign = 1.0;
-        int found = find_in_row(old_start, old_partner, old_row_of_id(a), b);
-        if (found < 0) {
-          found = find_in_row(old_start, old_partner, old_row_of_id(b), a);
-          sign = -1.0;
-        }
+        bool flipped = false;
+        const int found = find_old_pair(old, old_row_of_id, id(pair_i(k)), partner(k), flipped);
         if (found < 0)
           return;
-        overlap(k) = old_overlap(found);
-        for (int c = 0; c < 3; ++c)
-          spring(k, c) = sign * old_spring(found, c);
-        if (copy_rolling)
-          for (int c = 0; c < 3; ++c)
-            rolling(k, c) = sign * old_rolling(found, c);
+        const double sign = flipped ? -1.0 : 1.0;
+        const int shared = shared_slots(slots, k, old_slots, found);
+        for (int c = 0; c < shared; ++c) {
+          const int to = slots.first(k) + c, from = old_slots.first(found) + c;
+          overlap(to) = old_overlap(from);
+          for (int d = 0; d < 3; ++d)
+            spring(to, d) = sign * old_spring(from, d);
+          if (copy_rolling)
+            for (int d = 0; d < 3; ++d)
+              rolling(to, d) = sign * old_rolling(from, d);
+          if (!keyed)
+            continue;
+          const int on_i = old_keyed ? old_feature_i(from) : 0;
+          const int on_j = old_keyed ? old_feature_j(from) : 0;
+          feature_i(to) = flipped ? on_j : on_i;
+          feature_j(to) = flipped ? on_i : on_j;
+        }
       });
   if (fresh.midway_point.extent(0) > 0 && old.midway_point.extent(0) > 0)
     transfer_narrow_phase_state(fresh, old, old_row_of_id, id);

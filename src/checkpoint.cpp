@@ -134,13 +134,14 @@ void Engine::read_checkpoint(const std::string& path) {
     load_view(in, std::string("pairs/") + name, s.pairs.*member);
   });
   s.pairs.pair_count = int(in.read_scalar_int64("pair_count"));
+  s.pairs.slot_count = int(s.pairs.overlap.extent(0));
   for_each_wall_contact_field([&](const char* name, auto member) {
     load_view(in, std::string("wall_contacts/") + name, s.wall_contacts.*member);
   });
   s.wall_contacts.entry_count = int(in.read_scalar_int64("wall_entry_count"));
   allocate_wall_contact_results(s.wall_contacts);
   s.families_present |= present_families(s.particles, s.shape_families);
-  s.classify_families();
+  s.classify_families(s.pairs);
   update_wall_poses(s.walls, s.time);
 }
 

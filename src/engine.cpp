@@ -402,8 +402,10 @@ void Engine::State::rebuild_lists() {
   const CellGrid grid = make_cell_grid(lo, hi, cell_size, 8'000'000);
   const CellBins bins = sort_particles_by_cell(particles, grid, scene.sort_by_cell);
   families_present |= present_families(particles, shape_families);
-  PairList fresh_pairs =
-      build_pair_list(particles, bins, list_skin, rolling, needs_narrow_phase_state());
+  PairList fresh_pairs = build_pair_list(particles, bins, list_skin);
+  classify_families(fresh_pairs);
+  assign_slots_by_pair_type<Families>(fresh_pairs, particles, shape_families, families_present);
+  allocate_pair_contacts(fresh_pairs, rolling, needs_narrow_phase_state());
   if (pairs.pair_count > 0)
     transfer_pair_history(fresh_pairs, pairs, old_rows, particles.id);
   pairs = fresh_pairs;
@@ -413,7 +415,6 @@ void Engine::State::rebuild_lists() {
   wall_contacts = fresh_walls;
   remember_build_positions(particles);
   ids_at_build = particles.id;
-  classify_families();
   last_build_time = time;
   needs_rebuild = false;
   ++list_builds;

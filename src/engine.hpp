@@ -1,6 +1,7 @@
 #pragma once
 // The engine: owns the particle, contact and wall stores in the execution space's memory, and
-// runs the time step of docs/architecture.md ("One time step"). Host code outside this class never touches device data.
+// runs the time step of docs/architecture.md ("One time step"). Host code outside this class never
+// touches device data.
 #include <cstdint>
 #include <memory>
 #include <random>

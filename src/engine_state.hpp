@@ -79,7 +79,7 @@ struct Engine::State {
 
   void setup_materials();
   void setup_shapes();
-  void classify_families();
+  void classify_families(const PairList& list);
   void setup_domain();
   void setup_walls();
   void setup_outlets();

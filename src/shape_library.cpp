@@ -90,12 +90,12 @@ int Engine::shape_id(const std::string& shape_name) const {
 }
 
 // With one family present (or none) its kernels run over all rows, without a sort.
-void Engine::State::classify_families() {
+void Engine::State::classify_families(const PairList& list) {
   int single_family = 0;
   for (int f = 0; f < Families::size; ++f)
     if (families_present & (1 << f))
       single_family = (families_present & ~(1 << f)) == 0 ? f : -1;
-  family_rows = sort_into_families<Families>(particles, pairs, shape_families, single_family);
+  family_rows = sort_into_families<Families>(particles, list, shape_families, single_family);
 }
 
 NarrowPhaseTotals Engine::narrow_phase_totals() const {

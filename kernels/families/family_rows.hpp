@@ -79,6 +79,15 @@ void rows_by_key(const std::string& label, int count, KeyOf key_of, RowSet (&set
       KOKKOS_LAMBDA(int row) { keyed.rows[key_of(row)](position(row)) = row; });
 }
 
+// The most contact points a pair of bodies of families A and B can have: one per pair of the
+// features each may touch with (spheres and superquadrics: 1; a clump of n elements: n).
+template <class A, class B>
+constexpr int pair_contact_points = A::contact_points* B::contact_points;
+
+template <int Count> struct PerPairType {
+  int value[Count] = {};
+};
+
 template <class List> struct FamilyRows {
   static constexpr int families = List::size;
   static constexpr int pair_types = pair_type_count(List::size);
@@ -119,6 +128,33 @@ FamilyRows<List> sort_into_families(const ParticleViews& p, const PairList& list
   for (int t = 0; t < FamilyRows<List>::pair_types; ++t)
     f.pairs[t].rows = pair_sets[t];
   return f;
+}
+
+// Gives each pair as many contact slots as its pair type may have contact points, when some
+// pair type of the families in `present` has more than one; otherwise every pair keeps one slot.
+template <class List>
+void assign_slots_by_pair_type(PairList& list, const ParticleViews& p, const ShapeFamilies& shapes,
+                               int present) {
+  constexpr int types = pair_type_count(List::size);
+  PerPairType<types> points;
+  bool several = false;
+  for_each_pair_type<List>([&](auto tag_a, auto tag_b) {
+    using A = typename decltype(tag_a)::type;
+    using B = typename decltype(tag_b)::type;
+    constexpr int t = pair_type_index_v<A, B, List>;
+    points.value[t] = pair_contact_points<A, B>;
+    const int both = (1 << family_index_v<A, List>) | (1 << family_index_v<B, List>);
+    several = several || ((present & both) == both && points.value[t] > 1);
+  });
+  if (!several)
+    return;
+  auto shape = p.shape;
+  auto pair_i = list.pair_i, pair_j = list.pair_j;
+  assign_contact_slots(
+      list, KOKKOS_LAMBDA(int k) {
+        return points.value[pair_type_index(shapes.family(shape(pair_i(k))),
+                                            shapes.family(shape(pair_j(k))), List::size)];
+      });
 }
 
 } // namespace kdem

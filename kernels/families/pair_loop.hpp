@@ -5,11 +5,13 @@
 //   NarrowPhase(const ContactContext&)                  built on the host each step
 //   static constexpr const char* label;                 the kernel's name
 //   static constexpr bool tallied;                      iterative: its evaluations are counted
+//   static constexpr int max_contacts;                  contact points one pair may have
 //   int team_size;                                      layout of the kernel, see launch.hpp
 //   PairsToEvaluate select(const ContactContext&, PairTypeRows&) const
 //                                                       the rows to evaluate (may launch a
 //                                                       prefilter that clears rejected pairs)
-//   KOKKOS_FUNCTION PairOutcome operator()(const PairRef&, PairContact&, NarrowPhaseTally&) const
+//   KOKKOS_FUNCTION PairOutcome operator()(const PairRef&, PairContacts<max_contacts>&,
+//                                          NarrowPhaseTally&) const
 // Included only by the translation units of kernels/pairs/, which instantiate it.
 #include <type_traits>
 
@@ -27,15 +29,10 @@ struct PairRef {
   bool flipped;
 };
 
-// What a narrow phase found: a contact (with its geometry, normal from b towards a, and Hertz
-// radius), no contact (the pair's stored contact is cleared), or nothing to do (a pair proven
-// apart keeps what it stores).
+// What a narrow phase found: contact points (PairContacts, normals from b towards a), no
+// contact (the pair's stored contacts are cleared), or nothing to do (a pair proven apart keeps
+// what it stores).
 enum class PairOutcome { touching, apart, unchanged };
-
-struct PairContact {
-  ContactGeometry geometry;
-  double effective_radius = 0; // m
-};
 
 // The rows a pair type evaluates this step: rows(s) for s < rows.count, except those with
 // passes(s) == 0 when flagged (a prefilter that did not compact its survivors).
@@ -49,6 +46,30 @@ struct PairsToEvaluate {
 
 template <class A, class B> struct NarrowPhase;
 
+// Whether the stored pair's body i is not of family A (then the narrow phase's a is j); never
+// for pairs of one family.
+template <class A, class B>
+KOKKOS_INLINE_FUNCTION bool pair_is_flipped(const ShapeFamilies& shapes, const ParticleViews& p,
+                                            int i) {
+  if constexpr (std::is_same_v<A, B>)
+    return false;
+  else
+    return shapes.family(p.shape(i)) != family_index_v<A, Families>;
+}
+
+// Stores what a narrow phase found: one contact point into the pair's one slot, several into its
+// slots by feature (PairSlots::apply_several).
+template <bool Rolling, int K>
+KOKKOS_INLINE_FUNCTION void store_contacts(const PairSlots& slots, int k, const ParticleViews& p,
+                                           int i, int j, const PairContacts<K>& found, bool flipped,
+                                           const PairCoefficients& coefficients, double dt) {
+  if constexpr (K == 1)
+    slots.template apply<Rolling>(k, p, i, j, found.contact[0].geometry,
+                                  found.contact[0].effective_radius, coefficients, dt);
+  else
+    slots.template apply_several<Rolling, K>(k, p, i, j, found, flipped, coefficients, dt);
+}
+
 // The narrow phases without a prefilter evaluate every row of their type.
 struct EveryRowOfTheType {
   PairsToEvaluate select(const ContactContext&, PairTypeRows& type_rows) const {
@@ -59,6 +80,8 @@ struct EveryRowOfTheType {
 template <class A, class B, bool Rolling>
 void compute_pair_type(const ContactContext& c, PairTypeRows& type_rows) {
   using Narrow = NarrowPhase<A, B>;
+  static_assert(Narrow::max_contacts == pair_contact_points<A, B>,
+                "a narrow phase finds at most the contact points its pair type has slots for");
   const Narrow narrow(c);
   const PairsToEvaluate todo = narrow.select(c, type_rows);
   if (todo.rows.count == 0)
@@ -69,16 +92,15 @@ void compute_pair_type(const ContactContext& c, PairTypeRows& type_rows) {
   const ShapeFamilies shapes = c.shape_families;
   const CoefficientTable table = c.coefficients;
   const double dt = c.dt;
-  constexpr bool same_family = std::is_same_v<A, B>;
-  constexpr int family_a = family_index_v<A, Families>;
+  constexpr int K = Narrow::max_contacts;
   const auto body = KOKKOS_LAMBDA(int s, NarrowPhaseTally& tally) {
     if (todo.skipped(s))
       return;
     const int k = todo.rows(s), i = pair_i(k), j = pair_j(k);
-    const bool flipped = !same_family && shapes.family(p.shape(i)) != family_a;
+    const bool flipped = pair_is_flipped<A, B>(shapes, p, i);
     const PairRef ref{k, i, j, flipped ? j : i, flipped ? i : j, flipped};
-    PairContact contact;
-    const PairOutcome outcome = narrow(ref, contact, tally);
+    PairContacts<K> found;
+    const PairOutcome outcome = narrow(ref, found, tally);
     if (outcome == PairOutcome::unchanged)
       return;
     if (outcome == PairOutcome::apart) {
@@ -86,9 +108,10 @@ void compute_pair_type(const ContactContext& c, PairTypeRows& type_rows) {
       return;
     }
     if (flipped)
-      contact.geometry.normal = -contact.geometry.normal;
-    slots.template apply<Rolling>(k, p, i, j, contact.geometry, contact.effective_radius,
-                                  table(p.material(i), p.material(j)), dt);
+      for (int c = 0; c < found.count; ++c)
+        found.contact[c].geometry.normal = -found.contact[c].geometry.normal;
+    store_contacts<Rolling>(slots, k, p, i, j, found, flipped, table(p.material(i), p.material(j)),
+                            dt);
   };
   const auto untallied = KOKKOS_LAMBDA(int s) {
     NarrowPhaseTally unused;

@@ -15,6 +15,7 @@ struct SphereFamily {
   // type of spheres alone keeps a Newton warm start.
   static constexpr bool rigid_rotation = false;
   static constexpr bool surface_turns = false;
+  static constexpr int contact_points = 1; // features it may touch another body with
   static constexpr bool iterative_narrow_phase = false;
 
   struct Table {};

@@ -6,18 +6,21 @@ namespace kdem {
 template <> struct NarrowPhase<SphereFamily, SphereFamily> : EveryRowOfTheType {
   static constexpr const char* label = "kdem::sphere_pair_forces";
   static constexpr bool tallied = false;
+  static constexpr int max_contacts = 1;
   int team_size = 0;
   ParticleViews p;
 
   explicit NarrowPhase(const ContactContext& c) : p(c.particles) {}
 
-  KOKKOS_INLINE_FUNCTION PairOutcome operator()(const PairRef& r, PairContact& contact,
+  KOKKOS_INLINE_FUNCTION PairOutcome operator()(const PairRef& r, PairContacts<1>& found,
                                                 NarrowPhaseTally&) const {
     const double ri = p.radius(r.i), rj = p.radius(r.j);
+    PairContact& contact = found.contact[0];
     contact.geometry = sphere_sphere(load3(p.position, r.i), ri, load3(p.position, r.j), rj);
     if (!contact.geometry.touching)
       return PairOutcome::apart;
     contact.effective_radius = ri * rj / (ri + rj);
+    found.count = 1;
     return PairOutcome::touching;
   }
 };

@@ -26,6 +26,7 @@ struct SuperquadricFamily {
   static constexpr const char* wall_label = "kdem::superquadric_wall_contacts";
   static constexpr bool rigid_rotation = true;
   static constexpr bool surface_turns = true;
+  static constexpr int contact_points = 1; // features it may touch another body with
   static constexpr bool iterative_narrow_phase = true;
 
   struct Table {

@@ -94,6 +94,7 @@ inline PairsToEvaluate superquadric_pairs_in_reach(const ParticleViews& p,
   auto multiplier = list.midway_multiplier;
   auto overlap = list.overlap;
   const PairSlots slots(list);
+  const ContactSlots contact_slots = list.slots();
   const SeparationCertificates certificates(p, list, use_certificates);
   Kokkos::parallel_for(
       "kdem::superquadric_pair_prefilter", RangePolicy(0, candidates), KOKKOS_LAMBDA(int m) {
@@ -106,7 +107,7 @@ inline PairsToEvaluate superquadric_pairs_in_reach(const ParticleViews& p,
         }
         // Pairs that touched at the last step almost surely still do: the box test is skipped
         // for them (the book's suggestion, Sect. 2.2.1); the narrow phase decides.
-        if (near && overlap(k) == 0) {
+        if (near && overlap(contact_slots.first(k)) == 0) {
           int hint = axis(k);
           near = bounding_boxes_overlap(SuperquadricFamily::pose(table, shapes, p, i),
                                         SuperquadricFamily::pose(table, shapes, p, j), hint);
@@ -115,7 +116,7 @@ inline PairsToEvaluate superquadric_pairs_in_reach(const ParticleViews& p,
         passes(m) = near ? 1 : 0;
         if (!near) {
           slots.clear(k);
-          multiplier(k) = 0;
+          multiplier(contact_slots.first(k)) = 0;
           certificates.revoke(k);
         }
       });
@@ -141,6 +142,7 @@ struct SuperquadricPairState {
   ParticleViews p;
   SuperquadricFamily::Table table;
   ShapeFamilies shapes;
+  ContactSlots slots;
   Vec3View point;
   ScalarView multiplier;
   SeparationCertificates certificates;
@@ -150,7 +152,7 @@ struct SuperquadricPairState {
 
   explicit SuperquadricPairState(const ContactContext& c)
       : p(c.particles), table(c.table<SuperquadricFamily>()), shapes(c.shape_families),
-        point(c.pairs.midway_point), multiplier(c.pairs.midway_multiplier),
+        slots(c.pairs.slots()), point(c.pairs.midway_point), multiplier(c.pairs.midway_multiplier),
         certificates(c.particles, c.pairs, table.settings.separation_certificates),
         controls(table.settings.newton), limit(table.settings.curvature_limit),
         team_size(table.settings.team_size) {}
@@ -162,9 +164,10 @@ struct SuperquadricPairState {
   }
 
   KOKKOS_INLINE_FUNCTION MidwayState warm_start(int k, int i, int j) const {
+    const int slot = slots.first(k);
     MidwayState previous;
-    previous.point = load3(point, k) + centres_midpoint(i, j);
-    previous.multiplier = multiplier(k);
+    previous.point = load3(point, slot) + centres_midpoint(i, j);
+    previous.multiplier = multiplier(slot);
     return previous;
   }
 
@@ -183,17 +186,19 @@ struct SuperquadricPairState {
   // Counts the evaluation, keeps its warm start and certificate, and gives the contact with
   // the normal of the narrow phase's order (from its second body towards its first).
   KOKKOS_INLINE_FUNCTION PairOutcome record(const PairRef& ref, const NarrowPhaseResult& r,
-                                            double equivalent_radius, PairContact& contact,
+                                            double equivalent_radius, PairContacts<1>& found,
                                             NarrowPhaseTally& tally) const {
     tally.add(r);
-    store3(point, ref.k, r.state.point - centres_midpoint(ref.i, ref.j));
-    multiplier(ref.k) = r.state.multiplier;
+    const int slot = slots.first(ref.k);
+    store3(point, slot, r.state.point - centres_midpoint(ref.i, ref.j));
+    multiplier(slot) = r.state.multiplier;
     certificates.issue(ref.k, ref.i, ref.j, r.separation);
     if (!r.geometry.touching)
       return PairOutcome::apart;
-    contact.geometry = r.geometry;
-    contact.effective_radius =
+    found.contact[0].geometry = r.geometry;
+    found.contact[0].effective_radius =
         curvature_radius(r.curvature_i, r.curvature_j, equivalent_radius, limit);
+    found.count = 1;
     return PairOutcome::touching;
   }
 };
@@ -201,6 +206,7 @@ struct SuperquadricPairState {
 template <> struct NarrowPhase<SuperquadricFamily, SuperquadricFamily> : SuperquadricPairState {
   static constexpr const char* label = "kdem::superquadric_pair_forces";
   static constexpr bool tallied = true;
+  static constexpr int max_contacts = 1;
   PairList list;
 
   explicit NarrowPhase(const ContactContext& c) : SuperquadricPairState(c), list(c.pairs) {}
@@ -212,13 +218,13 @@ template <> struct NarrowPhase<SuperquadricFamily, SuperquadricFamily> : Superqu
                                        table.settings.compact_candidates);
   }
 
-  KOKKOS_INLINE_FUNCTION PairOutcome operator()(const PairRef& r, PairContact& contact,
+  KOKKOS_INLINE_FUNCTION PairOutcome operator()(const PairRef& r, PairContacts<1>& found,
                                                 NarrowPhaseTally& tally) const {
     const NarrowPhaseResult result = superquadric_pair_contact(
         SuperquadricFamily::pose(table, shapes, p, r.i),
         SuperquadricFamily::pose(table, shapes, p, r.j), warm_start(r.k, r.i, r.j), controls);
     return record(r, result,
-                  pair_equivalent_radius<SuperquadricFamily, SuperquadricFamily>(r.i, r.j), contact,
+                  pair_equivalent_radius<SuperquadricFamily, SuperquadricFamily>(r.i, r.j), found,
                   tally);
   }
 };
@@ -228,13 +234,14 @@ template <>
 struct NarrowPhase<SphereFamily, SuperquadricFamily> : SuperquadricPairState, EveryRowOfTheType {
   static constexpr const char* label = "kdem::sphere_superquadric_forces";
   static constexpr bool tallied = true;
+  static constexpr int max_contacts = 1;
   explicit NarrowPhase(const ContactContext& c) : SuperquadricPairState(c) {}
 
-  KOKKOS_INLINE_FUNCTION PairOutcome operator()(const PairRef& r, PairContact& contact,
+  KOKKOS_INLINE_FUNCTION PairOutcome operator()(const PairRef& r, PairContacts<1>& found,
                                                 NarrowPhaseTally& tally) const {
     const double reach = p.radius(r.i) + p.radius(r.j);
     if (norm2(load3(p.position, r.i) - load3(p.position, r.j)) >= reach * reach) {
-      multiplier(r.k) = 0;
+      multiplier(slots.first(r.k)) = 0;
       certificates.revoke(r.k);
       return PairOutcome::apart;
     }
@@ -246,7 +253,7 @@ struct NarrowPhase<SphereFamily, SuperquadricFamily> : SuperquadricPairState, Ev
     const double radius = r.flipped
                               ? pair_equivalent_radius<SuperquadricFamily, SphereFamily>(r.i, r.j)
                               : pair_equivalent_radius<SphereFamily, SuperquadricFamily>(r.i, r.j);
-    return record(r, result, radius, contact, tally);
+    return record(r, result, radius, found, tally);
   }
 };
 
