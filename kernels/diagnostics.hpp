@@ -85,19 +85,21 @@ inline ContactStatistics wall_contact_statistics(const ParticleViews& p,
                                                  const WallContactList& list) {
   auto overlap = list.overlap;
   auto row_start = list.row_start;
+  const ContactSlots slots = list.slots();
   auto radius = p.radius;
   int contacts = 0;
   double largest = 0;
   Kokkos::parallel_reduce(
       "kdem::wall_contact_statistics", RangePolicy(0, p.count),
       KOKKOS_LAMBDA(int i, int& count, double& m) {
-        for (int k = row_start(i); k < row_start(i + 1); ++k) {
-          if (overlap(k) <= 0)
-            continue;
-          ++count;
-          if (overlap(k) / radius(i) > m)
-            m = overlap(k) / radius(i);
-        }
+        for (int k = row_start(i); k < row_start(i + 1); ++k)
+          for (int s = slots.first(k); s < slots.end(k); ++s) {
+            if (overlap(s) <= 0)
+              continue;
+            ++count;
+            if (overlap(s) / radius(i) > m)
+              m = overlap(s) / radius(i);
+          }
       },
       contacts, Kokkos::Max<double>(largest));
   return {contacts, math::max(largest, 0.0)};

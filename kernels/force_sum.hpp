@@ -17,6 +17,7 @@ inline void sum_forces(const ParticleViews& p, Vec3 gravity, const WallContactLi
   auto mass = p.mass;
   auto wall_start = walls.row_start;
   auto wall_overlap = walls.overlap;
+  const ContactSlots wall_slots = walls.slots();
   auto wall_force = walls.force_on_i, wall_torque = walls.torque_on_i;
   auto row_start = pairs.row_start, reverse_start = pairs.reverse_start;
   auto reverse_pair = pairs.reverse_pair, pair_i = pairs.pair_i;
@@ -25,8 +26,8 @@ inline void sum_forces(const ParticleViews& p, Vec3 gravity, const WallContactLi
       "kdem::sum_forces", RangePolicy(0, p.count), KOKKOS_LAMBDA(int i) {
         Vec3 f = mass(i) * gravity, t{};
         for (int k = wall_start(i); k < wall_start(i + 1); ++k) {
-          if (wall_overlap(k) == 0)
-            continue; // force and torque are zero
+          if (wall_overlap(wall_slots.first(k)) == 0)
+            continue; // no contact (contacts fill an entry's slots from the first): all zero
           f += load3(wall_force, k);
           t += load3(wall_torque, k);
         }

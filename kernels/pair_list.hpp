@@ -5,19 +5,9 @@
 // moves from the old list to the new one by stable particle ids.
 #include "binning.hpp"
 #include "contact_law.hpp"
+#include "contact_slots.hpp"
 
 namespace kdem {
-
-// Where the contact points of each pair live: pair k owns contact slots
-// [first(k), end(k)). With `start` empty every pair has one slot, slot k (scenes whose pair
-// types all have one contact point); otherwise start has pair_count + 1 entries.
-struct ContactSlots {
-  IndexView start;
-
-  KOKKOS_INLINE_FUNCTION bool single() const { return start.extent(0) == 0; }
-  KOKKOS_INLINE_FUNCTION int first(int k) const { return single() ? k : start(k); }
-  KOKKOS_INLINE_FUNCTION int end(int k) const { return single() ? k + 1 : start(k + 1); }
-};
 
 struct PairList {
   int pair_count = 0;
@@ -239,17 +229,6 @@ inline IndexView rows_by_id(const IdView& id, int count, std::int64_t id_bound) 
   Kokkos::parallel_for(
       "kdem::rows_by_id", RangePolicy(0, count), KOKKOS_LAMBDA(int i) { row_of_id(id(i)) = i; });
   return row_of_id;
-}
-
-// Finds, in row `row` of a CSR list keyed by partner ids, the entry whose key is `key`; -1 if none.
-KOKKOS_INLINE_FUNCTION int find_in_row(const IndexView& row_start, const IdView& keys, int row,
-                                       std::int64_t key) {
-  if (row < 0)
-    return -1;
-  for (int k = row_start(row); k < row_start(row + 1); ++k)
-    if (keys(k) == key)
-      return k;
-  return -1;
 }
 
 // Finds pair (a, b) of stable ids in the old list: its slot, and whether it was stored as (b, a).

@@ -4,6 +4,7 @@
 // the contact is taken back to the world frame.
 #include "../shapes/wall_geometry.hpp"
 #include "contact_law.hpp"
+#include "contact_slots.hpp"
 #include "particles.hpp"
 #include "view_access.hpp"
 
@@ -220,16 +221,27 @@ KOKKOS_INLINE_FUNCTION SurfaceQuery query_element(const WallElements& el, int e,
 }
 
 // Particle-wall candidates: elements within reach (radius + skin), per particle, with history.
+// Per particle its candidate wall elements (entries), and per entry its contact slots (see
+// ContactSlots: one slot per entry unless a family present may touch one element at several
+// points), each with its history keyed by the particle's feature that touches.
 struct WallContactList {
   int entry_count = 0;
   IndexView row_start; // particle_count + 1
   IndexView element;
-  IdView element_key; // element index as a key for history transfer
-  Vec3View tangential_spring;
-  Vec3View rolling_torque; // empty when no material pair has rolling resistance
-  Vec3View force_on_i;     // N, this step; summed per particle by sum_forces
-  Vec3View torque_on_i;    // N m, about the particle's centre
-  ScalarView overlap;      // m, 0 when not touching; then the force and torque are 0 too
+  IdView element_key;      // element index as a key for history transfer
+  IndexView contact_start; // entry_count + 1, or empty: slot k of entry k
+  int slot_count = 0;
+  IndexView feature;          // per slot, of the particle; -1: free; empty with one slot each
+  Vec3View tangential_spring; // per slot
+  Vec3View rolling_torque;    // per slot; empty when no material pair has rolling resistance
+  ScalarView overlap;         // per slot, m, 0 when not touching; then its history is 0 too
+  // Per entry, this step: the sum of its contacts' forces, N, and torques about the particle's
+  // centre, N m; summed per particle by sum_forces.
+  Vec3View force_on_i;
+  Vec3View torque_on_i;
+
+  ContactSlots slots() const { return ContactSlots{contact_start}; }
+  bool one_slot_per_entry() const { return contact_start.extent(0) == 0; }
 };
 
 // The fields a checkpoint keeps; force_on_i and torque_on_i are not among them, as every step
@@ -238,6 +250,8 @@ template <class Visitor> void for_each_wall_contact_field(Visitor&& visit) {
   visit("row_start", &WallContactList::row_start);
   visit("element", &WallContactList::element);
   visit("element_key", &WallContactList::element_key);
+  visit("contact_start", &WallContactList::contact_start);
+  visit("feature", &WallContactList::feature);
   visit("tangential_spring", &WallContactList::tangential_spring);
   visit("rolling_torque", &WallContactList::rolling_torque);
   visit("overlap", &WallContactList::overlap);
@@ -265,8 +279,39 @@ inline void allocate_wall_contact_results(WallContactList& list) {
   list.torque_on_i = Vec3View("wall_torque", list.entry_count);
 }
 
+// Gives the entries of particle i slots_of(i) contact slots each (count, scan); without this
+// every entry has one.
+template <class SlotsOf>
+void assign_wall_contact_slots(WallContactList& list, int particle_count, SlotsOf slots_of) {
+  IndexView counts = uninitialized<IndexView>("wall_slot_count", list.entry_count);
+  auto row_start = list.row_start;
+  Kokkos::parallel_for(
+      "kdem::wall_slot_count", RangePolicy(0, particle_count), KOKKOS_LAMBDA(int i) {
+        for (int k = row_start(i); k < row_start(i + 1); ++k)
+          counts(k) = slots_of(i);
+      });
+  list.contact_start = exclusive_scan_with_total(counts, list.slot_count);
+}
+
+// The contact state of a wall list: per slot its history, per entry its force and torque.
+inline void allocate_wall_contacts(WallContactList& list, bool rolling_state) {
+  if (list.one_slot_per_entry())
+    list.slot_count = list.entry_count;
+  const int slots = list.slot_count;
+  if (!list.one_slot_per_entry()) {
+    list.feature = IndexView("wall_contact_feature", slots);
+    Kokkos::deep_copy(list.feature, -1);
+  }
+  list.tangential_spring = Vec3View("wall_tangential_spring", slots);
+  if (rolling_state)
+    list.rolling_torque = Vec3View("wall_rolling_torque", slots);
+  list.overlap = ScalarView("wall_overlap", slots);
+  allocate_wall_contact_results(list);
+}
+
+// The candidate elements of each particle; no contact state yet (see allocate_wall_contacts).
 inline WallContactList build_wall_contact_list(const ParticleViews& p, const WallSet& walls,
-                                               double skin, bool rolling_state) {
+                                               double skin) {
   const int n = p.count;
   WallContactList list;
   IndexView counts("wall_candidate_count", n);
@@ -288,11 +333,6 @@ inline WallContactList build_wall_contact_list(const ParticleViews& p, const Wal
   const int entries = list.entry_count;
   list.element = uninitialized<IndexView>("wall_candidate_element", entries);
   list.element_key = uninitialized<IdView>("wall_candidate_key", entries);
-  list.tangential_spring = Vec3View("wall_tangential_spring", entries);
-  if (rolling_state)
-    list.rolling_torque = Vec3View("wall_rolling_torque", entries);
-  allocate_wall_contact_results(list);
-  list.overlap = ScalarView("wall_overlap", entries);
   auto row_start = list.row_start;
   auto element = list.element;
   auto key = list.element_key;
@@ -311,17 +351,21 @@ inline WallContactList build_wall_contact_list(const ParticleViews& p, const Wal
   return list;
 }
 
-// Wall rows are per particle; history moves by (particle id, element).
+// Wall rows are per particle; history moves by (particle id, element), slot by slot (with its
+// feature; a list with one slot per entry has feature 0).
 inline void transfer_wall_history(WallContactList& fresh, const WallContactList& old,
                                   const IndexView& old_row_of_id, const IdView& id,
                                   int particle_count) {
   auto row_start = fresh.row_start;
   auto key = fresh.element_key;
+  const ContactSlots slots = fresh.slots(), old_slots = old.slots();
   auto spring = fresh.tangential_spring, rolling = fresh.rolling_torque;
+  auto feature = fresh.feature, old_feature = old.feature;
   auto old_start = old.row_start;
   auto old_key = old.element_key;
   auto old_spring = old.tangential_spring, old_rolling = old.rolling_torque;
   const bool copy_rolling = rolling.extent(0) > 0 && old_rolling.extent(0) > 0;
+  const bool keyed = !fresh.one_slot_per_entry(), old_keyed = !old.one_slot_per_entry();
   Kokkos::parallel_for(
       "kdem::wall_history_transfer", RangePolicy(0, particle_count), KOKKOS_LAMBDA(int i) {
         const int old_row = old_row_of_id(id(i));
@@ -329,80 +373,210 @@ inline void transfer_wall_history(WallContactList& fresh, const WallContactList&
           const int found = find_in_row(old_start, old_key, old_row, key(k));
           if (found < 0)
             continue;
-          for (int c = 0; c < 3; ++c)
-            spring(k, c) = old_spring(found, c);
-          if (copy_rolling)
-            for (int c = 0; c < 3; ++c)
-              rolling(k, c) = old_rolling(found, c);
+          const int fresh_count = slots.end(k) - slots.first(k);
+          const int old_count = old_slots.end(found) - old_slots.first(found);
+          const int shared = fresh_count < old_count ? fresh_count : old_count;
+          for (int c = 0; c < shared; ++c) {
+            const int to = slots.first(k) + c, from = old_slots.first(found) + c;
+            for (int d = 0; d < 3; ++d)
+              spring(to, d) = old_spring(from, d);
+            if (copy_rolling)
+              for (int d = 0; d < 3; ++d)
+                rolling(to, d) = old_rolling(from, d);
+            if (keyed)
+              feature(to) = old_keyed ? old_feature(from) : 0;
+          }
         }
       });
 }
 
-// A particle-wall contact in the world frame, with the Hertz radius it gets.
+// A particle-wall contact in the world frame, with the Hertz radius it gets and the feature of
+// the particle that touches (0 for bodies with one contact point).
 struct WallContactGeometry {
   ContactGeometry geometry;
   double effective_radius = 0; // m
+  int feature = 0;
 };
 
-// The wall contacts of `count` particles (the m-th particle is row row_of(m)), stored per
-// candidate entry like pair contacts and summed per particle by sum_forces. contact_of(i, e,
-// pose) gives the contact of particle i with element e of a wall at that pose; the particle
-// family decides how (SphereWallContact below; each family's wall_contact).
+// Up to K contacts of one particle with one wall element.
+template <int K> struct WallContacts {
+  int count = 0;
+  WallContactGeometry contact[K];
+};
+
+// Hertz-Mindlin of particle i at a contact with a wall at `wall`; advances `history` and gives
+// the contact's torque on i about its centre.
+template <bool RollingResistance>
+KOKKOS_INLINE_FUNCTION ContactOutput wall_contact_law(const ParticleViews& p, int i,
+                                                      const WallPose& wall,
+                                                      const WallContactGeometry& contact,
+                                                      const CoefficientTable& table, double dt,
+                                                      ContactHistory& history, Vec3& torque) {
+  const Vec3 xi = load3(p.position, i), vi = load3(p.velocity, i),
+             wi = load3(p.angular_velocity, i);
+  ContactInput in;
+  in.geometry = contact.geometry;
+  const Vec3 point = in.geometry.point;
+  in.relative_velocity = point_velocity(vi, wi, xi, point) - wall.velocity_at(point);
+  in.relative_angular_velocity = wi - wall.omega;
+  in.effective_radius = contact.effective_radius;
+  in.effective_mass = p.mass(i);
+  const ContactOutput out =
+      hertz_mindlin<RollingResistance>(table(p.material(i), wall.material), in, dt, history);
+  torque = cross(point - xi, out.force_on_i) + out.rolling_torque_on_i;
+  return out;
+}
+
+// The per-slot and per-entry values a wall contact writes.
+struct WallSlots {
+  ContactSlots slots;
+  Vec3View spring, rolling, force_on_i, torque_on_i;
+  ScalarView overlap;
+  IndexView feature;
+
+  explicit WallSlots(const WallContactList& list)
+      : slots(list.slots()), spring(list.tangential_spring), rolling(list.rolling_torque),
+        force_on_i(list.force_on_i), torque_on_i(list.torque_on_i), overlap(list.overlap),
+        feature(list.feature) {}
+
+  KOKKOS_INLINE_FUNCTION void clear_slot(int s) const {
+    store3(spring, s, Vec3{});
+    if (rolling.extent(0) > 0)
+      store3(rolling, s, Vec3{});
+    overlap(s) = 0;
+    if (!slots.single())
+      feature(s) = -1;
+  }
+
+  template <bool RollingResistance> KOKKOS_INLINE_FUNCTION ContactHistory history_of(int s) const {
+    ContactHistory history{load3(spring, s), Vec3{}};
+    if (RollingResistance)
+      history.rolling_torque = load3(rolling, s);
+    return history;
+  }
+
+  template <bool RollingResistance>
+  KOKKOS_INLINE_FUNCTION void keep(int s, const ContactHistory& history, double overlap_now) const {
+    store3(spring, s, history.tangential_spring);
+    if (RollingResistance)
+      store3(rolling, s, history.rolling_torque);
+    overlap(s) = overlap_now;
+  }
+};
+
+// One contact point per entry: the entry's slot.
 template <bool RollingResistance, class RowOf, class ContactOf>
-void compute_wall_contacts(const std::string& label, const ParticleViews& p, const WallSet& walls,
-                           WallContactList& list, const CoefficientTable& table, double dt,
-                           int count, RowOf row_of, ContactOf contact_of) {
+void compute_wall_contacts_one_each(const std::string& label, const ParticleViews& p,
+                                    const WallSet& walls, const WallContactList& list,
+                                    const CoefficientTable& table, double dt, int count,
+                                    RowOf row_of, ContactOf contact_of) {
   auto el = walls.elements;
   auto pose = walls.pose;
   auto row_start = list.row_start;
   auto element = list.element;
-  auto spring = list.tangential_spring, rolling = list.rolling_torque;
-  auto force_on_i = list.force_on_i, torque_on_i = list.torque_on_i;
-  auto overlap = list.overlap;
+  const WallSlots slots(list);
   Kokkos::parallel_for(
       label, RangePolicy(0, count), KOKKOS_LAMBDA(int m) {
         const int i = row_of(m);
-        const Vec3 xi = load3(p.position, i), vi = load3(p.velocity, i),
-                   wi = load3(p.angular_velocity, i);
         for (int k = row_start(i); k < row_start(i + 1); ++k) {
           const int e = element(k);
           const WallPose wall = pose(el.wall(e));
           WallContactGeometry contact;
           if (wall.active != 0)
             contact = contact_of(i, e, wall);
+          const int s = slots.slots.first(k);
           if (!contact.geometry.touching) {
-            store3(spring, k, Vec3{});
-            if (RollingResistance) // not constexpr: nvcc lambdas may not first-capture there
-              store3(rolling, k, Vec3{});
-            store3(force_on_i, k, Vec3{});
-            store3(torque_on_i, k, Vec3{});
-            overlap(k) = 0;
+            slots.clear_slot(s);
+            store3(slots.force_on_i, k, Vec3{});
+            store3(slots.torque_on_i, k, Vec3{});
             continue;
           }
-          ContactInput in;
-          in.geometry = contact.geometry;
-          const Vec3 point = in.geometry.point;
-          in.relative_velocity = point_velocity(vi, wi, xi, point) - wall.velocity_at(point);
-          in.relative_angular_velocity = wi - wall.omega;
-          in.effective_radius = contact.effective_radius;
-          in.effective_mass = p.mass(i);
-          ContactHistory history{load3(spring, k), Vec3{}};
-          if (RollingResistance)
-            history.rolling_torque = load3(rolling, k);
-          const ContactOutput out = hertz_mindlin<RollingResistance>(
-              table(p.material(i), wall.material), in, dt, history);
-          store3(spring, k, history.tangential_spring);
-          if (RollingResistance)
-            store3(rolling, k, history.rolling_torque);
-          overlap(k) = in.geometry.overlap;
-          store3(force_on_i, k, out.force_on_i);
-          store3(torque_on_i, k, cross(point - xi, out.force_on_i) + out.rolling_torque_on_i);
+          ContactHistory history = slots.history_of<RollingResistance>(s);
+          Vec3 torque;
+          const ContactOutput out =
+              wall_contact_law<RollingResistance>(p, i, wall, contact, table, dt, history, torque);
+          slots.keep<RollingResistance>(s, history, contact.geometry.overlap);
+          store3(slots.force_on_i, k, out.force_on_i);
+          store3(slots.torque_on_i, k, torque);
         }
       });
 }
 
+// Several contact points per entry: each takes the history of the slot that held the same
+// feature at the last step (or a fresh one); they are written from the entry's first slot on,
+// in the functor's order, and summed in that order.
+template <bool RollingResistance, int K, class RowOf, class ContactOf>
+void compute_wall_contacts_several(const std::string& label, const ParticleViews& p,
+                                   const WallSet& walls, const WallContactList& list,
+                                   const CoefficientTable& table, double dt, int count,
+                                   RowOf row_of, ContactOf contact_of) {
+  auto el = walls.elements;
+  auto pose = walls.pose;
+  auto row_start = list.row_start;
+  auto element = list.element;
+  const WallSlots slots(list);
+  Kokkos::parallel_for(
+      label, RangePolicy(0, count), KOKKOS_LAMBDA(int m) {
+        const int i = row_of(m);
+        for (int k = row_start(i); k < row_start(i + 1); ++k) {
+          const int e = element(k);
+          const WallPose wall = pose(el.wall(e));
+          WallContacts<K> found;
+          if (wall.active != 0)
+            contact_of(i, e, wall, found);
+          const int first = slots.slots.first(k), capacity = slots.slots.end(k) - first;
+          const int kept = capacity < K ? capacity : K;
+          int last_feature[K];
+          ContactHistory last_history[K];
+          for (int c = 0; c < kept; ++c) {
+            last_feature[c] = slots.feature(first + c);
+            last_history[c] = slots.history_of<RollingResistance>(first + c);
+          }
+          const int n = found.count < kept ? found.count : kept;
+          Vec3 force, torque;
+          for (int c = 0; c < n; ++c) {
+            const WallContactGeometry& contact = found.contact[c];
+            ContactHistory history{};
+            for (int last = 0; last < kept; ++last)
+              if (last_feature[last] == contact.feature)
+                history = last_history[last];
+            Vec3 contact_torque;
+            const ContactOutput out = wall_contact_law<RollingResistance>(
+                p, i, wall, contact, table, dt, history, contact_torque);
+            slots.keep<RollingResistance>(first + c, history, contact.geometry.overlap);
+            slots.feature(first + c) = contact.feature;
+            force = c == 0 ? out.force_on_i : force + out.force_on_i;
+            torque = c == 0 ? contact_torque : torque + contact_torque;
+          }
+          for (int c = n; c < capacity; ++c)
+            slots.clear_slot(first + c);
+          store3(slots.force_on_i, k, force);
+          store3(slots.torque_on_i, k, torque);
+        }
+      });
+}
+
+// The wall contacts of `count` particles (the m-th particle is row row_of(m)), stored per
+// candidate entry like pair contacts and summed per particle by sum_forces. The family's
+// functor contact_of gives, for particle i and element e of a wall at its pose, one contact
+// (max_contacts == 1: WallContactGeometry operator()(i, e, pose)) or several
+// (void operator()(i, e, pose, WallContacts<max_contacts>&)); SphereWallContact below, each
+// family's wall_contact.
+template <bool RollingResistance, class RowOf, class ContactOf>
+void compute_wall_contacts(const std::string& label, const ParticleViews& p, const WallSet& walls,
+                           const WallContactList& list, const CoefficientTable& table, double dt,
+                           int count, RowOf row_of, ContactOf contact_of) {
+  if constexpr (ContactOf::max_contacts == 1)
+    compute_wall_contacts_one_each<RollingResistance>(label, p, walls, list, table, dt, count,
+                                                      row_of, contact_of);
+  else
+    compute_wall_contacts_several<RollingResistance, ContactOf::max_contacts>(
+        label, p, walls, list, table, dt, count, row_of, contact_of);
+}
+
 // A sphere against a wall element: the closest-point query in the wall's frame.
 struct SphereWallContact {
+  static constexpr int max_contacts = 1;
   WallElements el;
   Vec3View position;
   ScalarView radius;

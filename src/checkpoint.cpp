@@ -139,6 +139,7 @@ void Engine::read_checkpoint(const std::string& path) {
     load_view(in, std::string("wall_contacts/") + name, s.wall_contacts.*member);
   });
   s.wall_contacts.entry_count = int(in.read_scalar_int64("wall_entry_count"));
+  s.wall_contacts.slot_count = int(s.wall_contacts.overlap.extent(0));
   allocate_wall_contact_results(s.wall_contacts);
   s.families_present |= present_families(s.particles, s.shape_families);
   s.classify_families(s.pairs);

@@ -409,7 +409,9 @@ void Engine::State::rebuild_lists() {
   if (pairs.pair_count > 0)
     transfer_pair_history(fresh_pairs, pairs, old_rows, particles.id);
   pairs = fresh_pairs;
-  WallContactList fresh_walls = build_wall_contact_list(particles, walls, list_skin, rolling);
+  WallContactList fresh_walls = build_wall_contact_list(particles, walls, list_skin);
+  assign_wall_slots_by_family<Families>(fresh_walls, particles, shape_families, families_present);
+  allocate_wall_contacts(fresh_walls, rolling);
   if (wall_contacts.entry_count > 0)
     transfer_wall_history(fresh_walls, wall_contacts, old_rows, particles.id, particles.count);
   wall_contacts = fresh_walls;

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "../pair_list.hpp"
+#include "../walls.hpp"
 #include "family_list.hpp"
 
 namespace kdem {
@@ -155,6 +156,26 @@ void assign_slots_by_pair_type(PairList& list, const ParticleViews& p, const Sha
         return points.value[pair_type_index(shapes.family(shape(pair_i(k))),
                                             shapes.family(shape(pair_j(k))), List::size)];
       });
+}
+
+// Gives each wall entry as many contact slots as its particle's family has contact points, when
+// some family in `present` has more than one; otherwise every entry keeps one slot.
+template <class List>
+void assign_wall_slots_by_family(WallContactList& list, const ParticleViews& p,
+                                 const ShapeFamilies& shapes, int present) {
+  PerPairType<List::size> points;
+  bool several = false;
+  for_each_family<List>([&](auto tag) {
+    using F = typename decltype(tag)::type;
+    constexpr int f = family_index_v<F, List>;
+    points.value[f] = F::contact_points;
+    several = several || ((present & (1 << f)) != 0 && F::contact_points > 1);
+  });
+  if (!several)
+    return;
+  auto shape = p.shape;
+  assign_wall_contact_slots(
+      list, p.count, KOKKOS_LAMBDA(int i) { return points.value[shapes.family(shape(i))]; });
 }
 
 } // namespace kdem

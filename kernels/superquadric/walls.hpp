@@ -73,6 +73,7 @@ superquadric_element_contact(const WallElements& el, int e, const PosedSuperquad
 // A superquadric particle against a wall element, posed in the wall's frame; the Hertz radius
 // from the particle's curvature at its deepest point (a wall is flat or much larger).
 struct SuperquadricWallContactOf {
+  static constexpr int max_contacts = 1;
   WallElements el;
   SuperquadricFamily::Table table;
   ShapeFamilies shapes;

@@ -258,6 +258,101 @@ TEST(ContactPoints, HistoryFollowsItsFeaturesAcrossARebuildThatFlipsThePair) {
   EXPECT_EQ(s.touching_slots(), 0);
 }
 
+// A dumbbell against the plane z = 0: one contact per lobe below the plane, keyed by the lobe.
+struct DumbbellOnPlane {
+  static constexpr int max_contacts = 2;
+  ParticleViews p;
+
+  KOKKOS_INLINE_FUNCTION void operator()(int i, int, const WallPose&,
+                                         WallContacts<2>& found) const {
+    for (int lobe = 0; lobe < 2; ++lobe) {
+      const Vec3 centre = lobe_centre(p, i, lobe);
+      const ContactGeometry g = sphere_on_surface(centre, lobe_radius, centre.z, Vec3{0, 0, 1});
+      if (!g.touching)
+        continue;
+      WallContactGeometry& contact = found.contact[found.count++];
+      contact.geometry = g;
+      contact.effective_radius = lobe_radius;
+      contact.feature = lobe;
+    }
+  }
+};
+
+// A dumbbell tilted by 0.05 rad about y (lobe 1 lower), sliding along x while it descends onto a
+// plane and lifts off again: lobe 1 touches first, then lobe 0, then they let go in reverse. The
+// wall loop's force must equal independent sphere-plane contacts with one history per lobe.
+TEST(ContactPoints, ParticleWallContactsAppearAndVanishPerFeature) {
+  const double tilt = 0.05, speed = 0.1, dt = 1e-4, mass = 1e-5;
+  ParticleViews p;
+  p.allocate(1);
+  p.mass = from_host<ScalarView>("mass", {mass}, 1);
+  p.material = from_host<IndexView>("material", {0}, 1);
+  p.orientation =
+      from_host<QuatView>("orientation", {std::cos(0.5 * tilt), 0, std::sin(0.5 * tilt), 0}, 4);
+  WallSet walls;
+  walls.wall_count = 1;
+  walls.elements.count = 1;
+  walls.elements.wall = from_host<IndexView>("wall", {0}, 1);
+  walls.pose = DeviceView<WallPose*>("pose", 1); // at rest, identity, active, material 0
+  WallContactList list;
+  list.entry_count = 1;
+  list.row_start = from_host<IndexView>("row_start", {0, 1}, 1);
+  list.element = from_host<IndexView>("element", {0}, 1);
+  list.element_key = from_host<IdView>("element_key", {0}, 1);
+  assign_wall_contact_slots(
+      list, 1, KOKKOS_LAMBDA(int) { return 2; });
+  allocate_wall_contacts(list, false);
+  CoefficientTable table("coefficients", 1, 1);
+  auto host_table = Kokkos::create_mirror_view(table);
+  host_table(0, 0) = coefficients();
+  Kokkos::deep_copy(table, host_table);
+
+  ContactHistory reference[2] = {};
+  int seen[3] = {0, 0, 0};
+  double x = 0, z = 1.15e-3;
+  for (int n = 0; n < 60; ++n) {
+    const double vz = n < 30 ? -speed : speed;
+    p.position = from_host<Vec3View>("position", {x, 0, z}, 3);
+    p.velocity = from_host<Vec3View>("velocity", {speed, 0, vz}, 3);
+    compute_wall_contacts<false>("kdem::test_dumbbell_wall", p, walls, list, table, dt, 1,
+                                 AllRows{}, DumbbellOnPlane{p});
+    Vec3 expected;
+    int touching = 0;
+    const Vec3 along{std::cos(tilt), 0, -std::sin(tilt)};
+    for (int lobe = 0; lobe < 2; ++lobe) {
+      const Vec3 centre = Vec3{x, 0, z} + ((lobe == 0 ? -1.0 : 1.0) * lobe_offset) * along;
+      const ContactGeometry g = sphere_on_surface(centre, lobe_radius, centre.z, Vec3{0, 0, 1});
+      if (!g.touching) {
+        reference[lobe] = ContactHistory{};
+        continue;
+      }
+      ContactInput in;
+      in.geometry = g;
+      in.relative_velocity = Vec3{speed, 0, vz};
+      in.effective_radius = lobe_radius;
+      in.effective_mass = mass;
+      expected += hertz_mindlin<false>(coefficients(), in, dt, reference[lobe]).force_on_i;
+      ++touching;
+    }
+    const std::vector<double> f = flatten_to_host(list.force_on_i, 1);
+    const Vec3 found{f[0], f[1], f[2]};
+    // The lobe centres differ from the reference's by the rotation's rounding (1e-19 m).
+    const double tolerance = 1e-9 * (norm(expected) + 1e-9);
+    EXPECT_NEAR(found.x, expected.x, tolerance) << "step " << n;
+    EXPECT_NEAR(found.z, expected.z, tolerance) << "step " << n;
+    int slots_touching = 0;
+    for (double overlap : flatten_to_host(list.overlap, list.slot_count))
+      slots_touching += overlap > 0 ? 1 : 0;
+    EXPECT_EQ(slots_touching, touching) << "step " << n;
+    ++seen[touching];
+    x += speed * dt;
+    z += vz * dt;
+  }
+  EXPECT_GT(seen[0], 0);
+  EXPECT_GT(seen[1], 0);
+  EXPECT_GT(seen[2], 0);
+}
+
 TEST(ContactPoints, PairsOfOneContactKeepOneSlotEach) {
   PairList l;
   l.pair_count = 3;
