@@ -58,6 +58,13 @@ template <> struct NarrowPhase<DumbbellFamily, DumbbellFamily> : EveryRowOfTheTy
 
 namespace {
 
+// A fixed number of contact slots per candidate (a functor: nvcc takes no device lambda in a
+// test body).
+struct SlotsEach {
+  int slots = 1;
+  KOKKOS_INLINE_FUNCTION int operator()(int) const { return slots; }
+};
+
 PairCoefficients coefficients() {
   PairCoefficients c;
   c.effective_youngs = 5e7;
@@ -135,8 +142,7 @@ struct SlidingDumbbells {
     l.reverse_start = from_host<IndexView>(
         "reverse_start", j == 1 ? std::vector<int>{0, 0, 1} : std::vector<int>{0, 1, 1}, 1);
     l.reverse_pair = from_host<IndexView>("reverse_pair", {0}, 1);
-    assign_contact_slots(
-        l, KOKKOS_LAMBDA(int) { return 4; });
+    assign_contact_slots(l, SlotsEach{4});
     allocate_pair_contacts(l, false, false);
     return l;
   }
@@ -299,8 +305,7 @@ TEST(ContactPoints, ParticleWallContactsAppearAndVanishPerFeature) {
   list.row_start = from_host<IndexView>("row_start", {0, 1}, 1);
   list.element = from_host<IndexView>("element", {0}, 1);
   list.element_key = from_host<IdView>("element_key", {0}, 1);
-  assign_wall_contact_slots(
-      list, 1, KOKKOS_LAMBDA(int) { return 2; });
+  assign_wall_contact_slots(list, 1, SlotsEach{2});
   allocate_wall_contacts(list, false);
   CoefficientTable table("coefficients", 1, 1);
   auto host_table = Kokkos::create_mirror_view(table);
