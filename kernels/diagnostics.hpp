@@ -1,6 +1,8 @@
 #pragma once
 // Reductions over particles and contacts: list-rebuild trigger, energies, contact statistics,
 // outlets.
+#include <vector>
+
 #include "pair_list.hpp"
 #include "walls.hpp"
 
@@ -103,6 +105,18 @@ inline ContactStatistics wall_contact_statistics(const ParticleViews& p,
       },
       contacts, Kokkos::Max<double>(largest));
   return {contacts, math::max(largest, 0.0)};
+}
+
+// Particles per label value in [0, labels) (a source or tag index; -1 counts nowhere): one
+// reduction per value, each bringing one integer to the host.
+inline std::vector<std::int64_t> count_by_label(const ParticleViews& p, const IndexView& label,
+                                                int labels) {
+  std::vector<std::int64_t> counts(labels, 0);
+  for (int value = 0; value < labels; ++value)
+    Kokkos::parallel_reduce(
+        "kdem::count_by_label", RangePolicy(0, p.count),
+        KOKKOS_LAMBDA(int i, std::int64_t& n) { n += label(i) == value ? 1 : 0; }, counts[value]);
+  return counts;
 }
 
 struct OutletBox {

@@ -21,6 +21,8 @@ struct ParticleViews {
   Vec3View inertia;          // kg m^2, principal moments in the body frame
   IndexView material;
   IndexView shape;
+  IndexView source;           // the scene source that made it (its index), -1: added by the program
+  IndexView tag;              // index of its source's tag among the scene's tags, -1: none
   IdView id;                  // stable across sorting, restarts and deletion
   Vec3View position_at_build; // positions when the candidate lists were last built
   // rad, an upper bound on the total angle the particle has turned since it was created (summed
@@ -40,6 +42,8 @@ struct ParticleViews {
     inertia = Vec3View("inertia", n);
     material = IndexView("material", n);
     shape = IndexView("shape", n);
+    source = IndexView("source", n);
+    tag = IndexView("tag", n);
     id = IdView("id", n);
     position_at_build = Vec3View("position_at_build", n);
     turned_angle = ScalarView("turned_angle", n);
@@ -60,6 +64,8 @@ template <class Visitor> void for_each_particle_field(Visitor&& visit) {
   visit("inertia", &ParticleViews::inertia);
   visit("material", &ParticleViews::material);
   visit("shape", &ParticleViews::shape);
+  visit("source", &ParticleViews::source);
+  visit("tag", &ParticleViews::tag);
   visit("id", &ParticleViews::id);
   visit("position_at_build", &ParticleViews::position_at_build);
   visit("turned_angle", &ParticleViews::turned_angle);

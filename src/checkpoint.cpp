@@ -10,7 +10,8 @@
 namespace kdem {
 namespace {
 
-constexpr std::int64_t checkpoint_format = 1;
+// 2: particles carry their source and tag; pair and wall lists their contact slots.
+constexpr std::int64_t checkpoint_format = 2;
 
 template <class View> void save_view(Hdf5Writer& out, const std::string& name, const View& view) {
   const int rows = view.data() ? int(view.extent(0)) : 0;
@@ -43,6 +44,15 @@ void write_shape_templates(Hdf5Writer& out, const std::vector<SuperquadricShape>
   }
   out.write("shapes/half_axes", half_axes, {hsize_t(templates.size()), 3});
   out.write("shapes/blockiness", blockiness, {hsize_t(templates.size()), 2});
+}
+
+// For readers of the file: what the particles' `source` and `tag` index. Not read back: the
+// scene defines them.
+void write_names(Hdf5Writer& out, const std::string& name, const std::vector<std::string>& names) {
+  std::string joined;
+  for (const std::string& n : names)
+    joined += n + "\n";
+  out.write_string(name, joined);
 }
 
 std::string rng_state(const std::mt19937_64& rng) {
@@ -84,6 +94,8 @@ void Engine::write_checkpoint(const std::string& path) const {
     save_view(out, std::string("particles/") + name, s.particles.*member);
   });
   write_shape_templates(out, s.superquadric_templates);
+  write_names(out, "source_names", s.source_names());
+  write_names(out, "tag_names", s.tag_names);
   save_view(out, "ids_at_build", s.ids_at_build);
   for_each_pair_list_field([&](const char* name, auto member) {
     save_view(out, std::string("pairs/") + name, s.pairs.*member);

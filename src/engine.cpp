@@ -212,8 +212,21 @@ void Engine::State::setup_outlets() {
   outlets = upload<OutletBox>("outlets", boxes);
 }
 
+// The index of `tag` in tag_names, adding it when new; -1 for no tag.
+static int tag_index(std::vector<std::string>& tag_names, const std::string& tag) {
+  if (tag.empty())
+    return -1;
+  for (std::size_t k = 0; k < tag_names.size(); ++k)
+    if (tag_names[k] == tag)
+      return int(k);
+  tag_names.push_back(tag);
+  return int(tag_names.size()) - 1;
+}
+
 void Engine::State::setup_sources() {
   sources.resize(scene.sources.size());
+  for (std::size_t k = 0; k < scene.sources.size(); ++k)
+    sources[k].tag = tag_index(tag_names, scene.sources[k].tag);
   for (std::size_t k = 0; k < scene.sources.size(); ++k) {
     const ParticleSourceConfig& src = scene.sources[k];
     SourceState& st = sources[k];
@@ -234,7 +247,7 @@ void Engine::State::setup_sources() {
       throw std::runtime_error(msg.str());
     }
     st.inserted = std::int64_t(seeds.size());
-    append_seeds(seeds, st.material, st.shape);
+    append_seeds(seeds, int(k));
   }
 }
 
@@ -253,7 +266,8 @@ Obstacles Engine::State::current_obstacles() const {
   return obstacles;
 }
 
-void Engine::State::append_seeds(const std::vector<ParticleSeed>& seeds, int material, int shape) {
+void Engine::State::append_seeds(const std::vector<ParticleSeed>& seeds, int source) {
+  const SourceState& st = sources[source];
   std::vector<ParticleInit> inits;
   inits.reserve(seeds.size());
   for (const ParticleSeed& seed : seeds) {
@@ -263,8 +277,10 @@ void Engine::State::append_seeds(const std::vector<ParticleSeed>& seeds, int mat
     p.angular_velocity = seed.angular_velocity;
     p.orientation = seed.orientation;
     p.radius = seed.radius;
-    p.material = material;
-    p.shape = shape;
+    p.material = st.material;
+    p.shape = st.shape;
+    p.source = source;
+    p.tag = st.tag;
     inits.push_back(p);
   }
   append_particles(inits);
@@ -312,6 +328,8 @@ ParticleViews Engine::State::upload_new_particles(const std::vector<ParticleInit
   auto inertia = Kokkos::create_mirror_view(p.inertia);
   auto material = Kokkos::create_mirror_view(p.material);
   auto shape = Kokkos::create_mirror_view(p.shape);
+  auto source = Kokkos::create_mirror_view(p.source);
+  auto tag = Kokkos::create_mirror_view(p.tag);
   auto id = Kokkos::create_mirror_view(p.id);
   for (int i = 0; i < p.count; ++i) {
     const ParticleInit& a = added[i];
@@ -321,6 +339,10 @@ ParticleViews Engine::State::upload_new_particles(const std::vector<ParticleInit
       throw std::runtime_error("particle radius must be positive");
     if (a.material < 0 || a.material >= int(scene.materials.size()))
       throw std::runtime_error("particle material index out of range");
+    if (a.source < -1 || a.source >= int(sources.size()))
+      throw std::runtime_error("particle source index out of range");
+    if (a.tag < -1 || a.tag >= int(tag_names.size()))
+      throw std::runtime_error("particle tag index out of range");
     for (int c = 0; c < 3; ++c)
       x(i, c) = a.position[c], v(i, c) = a.velocity[c], w(i, c) = a.angular_velocity[c];
     for (int c = 0; c < 4; ++c)
@@ -341,6 +363,8 @@ ParticleViews Engine::State::upload_new_particles(const std::vector<ParticleInit
     }
     material(i) = a.material;
     shape(i) = a.shape;
+    source(i) = a.source;
+    tag(i) = a.tag;
     id(i) = next_id + i;
   }
   next_id += p.count;
@@ -353,6 +377,8 @@ ParticleViews Engine::State::upload_new_particles(const std::vector<ParticleInit
   Kokkos::deep_copy(p.inertia, inertia);
   Kokkos::deep_copy(p.material, material);
   Kokkos::deep_copy(p.shape, shape);
+  Kokkos::deep_copy(p.source, source);
+  Kokkos::deep_copy(p.tag, tag);
   Kokkos::deep_copy(p.id, id);
   return p;
 }
@@ -496,7 +522,7 @@ void Engine::State::insert_due_particles() {
     st.owed -= double(seeds.size());
     st.inserted += std::int64_t(seeds.size());
     st.next_insertion += src.interval;
-    append_seeds(seeds, st.material, st.shape);
+    append_seeds(seeds, int(k));
   }
 }
 
@@ -594,6 +620,8 @@ Diagnostics Engine::diagnostics() const {
   d.discharged_mass = s.discharged_mass;
   d.discharged_count = s.discharged_count;
   d.list_builds = s.list_builds;
+  d.particles_per_source = count_by_label(s.particles, s.particles.source, int(s.sources.size()));
+  d.particles_per_tag = count_by_label(s.particles, s.particles.tag, int(s.tag_names.size()));
   return d;
 }
 
@@ -612,6 +640,10 @@ ParticleSnapshot Engine::State::make_snapshot() const {
   snap.shape = flatten_to_host(p.shape, p.count);
   snap.material = flatten_to_host(p.material, p.count);
   snap.id = flatten_to_host(p.id, p.count);
+  snap.source = flatten_to_host(p.source, p.count);
+  snap.tag = flatten_to_host(p.tag, p.count);
+  snap.source_names = source_names();
+  snap.tag_names = tag_names;
   if (!superquadric_templates.empty())
     add_shapes_to_snapshot(snap);
   return snap;
@@ -629,6 +661,21 @@ void Engine::State::add_shapes_to_snapshot(ParticleSnapshot& snap) const {
     snap.half_axes[3 * i + 2] = shape.c;
     snap.blockiness[2 * i] = shape.n1, snap.blockiness[2 * i + 1] = shape.n2;
   }
+}
+
+std::vector<std::string> Engine::State::source_names() const {
+  std::vector<std::string> names;
+  for (const ParticleSourceConfig& src : scene.sources)
+    names.push_back(src.name);
+  return names;
+}
+
+std::vector<std::string> Engine::source_names() const {
+  return state_->source_names();
+}
+
+std::vector<std::string> Engine::tag_names() const {
+  return state_->tag_names;
 }
 
 ParticleSnapshot Engine::snapshot() const {

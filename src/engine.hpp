@@ -20,7 +20,9 @@ struct ParticleInit {
   std::array<double, 4> orientation{1, 0, 0, 0};
   double radius = 0; // spheres; a superquadric's bounding radius comes from its shape
   int material = 0;
-  int shape = 0; // 0: sphere; k > 0: the k-th entry of the scene's shapes
+  int shape = 0;   // 0: sphere; k > 0: the k-th entry of the scene's shapes
+  int source = -1; // index of the scene source that made it; -1: added by the program
+  int tag = -1;    // index in Engine::tag_names(); -1: none
 };
 
 // Totals of the superquadric narrow phase since the start of the run (or the restart).
@@ -44,6 +46,8 @@ struct Diagnostics {
   double discharged_mass = 0;       // kg, removed by outlets so far
   std::int64_t discharged_count = 0;
   std::int64_t list_builds = 0;
+  std::vector<std::int64_t> particles_per_source; // in the order of Engine::source_names()
+  std::vector<std::int64_t> particles_per_tag;    // in the order of Engine::tag_names()
 };
 
 struct TimeStepAdvice {
@@ -80,6 +84,10 @@ public:
   NarrowPhaseTotals narrow_phase_totals() const;
   int shape_id(const std::string& shape_name) const; // for add_particles
   ParticleSnapshot snapshot() const;
+  // The scene's sources, and its distinct tags in the order the sources name them: what the
+  // `source` and `tag` of a particle index.
+  std::vector<std::string> source_names() const;
+  std::vector<std::string> tag_names() const;
   std::vector<WallSurface> wall_surfaces() const;
 
   // Test and benchmark knobs.

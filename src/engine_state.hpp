@@ -22,6 +22,7 @@ struct SourceState {
   std::mt19937_64 rng;
   int material = 0;
   int shape = 0;
+  int tag = -1; // index in tag_names
   std::int64_t inserted = 0;
   double next_insertion = 0; // s
   double owed = 0;           // particles due but not yet placed
@@ -69,6 +70,7 @@ struct Engine::State {
   int outlet_count = 0;
   int outlet_check_interval = 50;
   std::vector<SourceState> sources;
+  std::vector<std::string> tag_names; // distinct source tags, in source order
 
   bool needs_rebuild = true;
   bool rebuild_every_step = false;
@@ -87,7 +89,7 @@ struct Engine::State {
   int material_index(const std::string& name) const;
 
   Obstacles current_obstacles() const;
-  void append_seeds(const std::vector<ParticleSeed>& seeds, int material, int shape);
+  void append_seeds(const std::vector<ParticleSeed>& seeds, int source);
   void append_particles(const std::vector<ParticleInit>& added);
   ParticleViews upload_new_particles(const std::vector<ParticleInit>& added);
 
@@ -106,6 +108,7 @@ struct Engine::State {
   void remove_discharged_particles();
   void step();
   ParticleSnapshot make_snapshot() const;
+  std::vector<std::string> source_names() const;
   void add_shapes_to_snapshot(ParticleSnapshot& snap) const;
 };
 

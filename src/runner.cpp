@@ -28,20 +28,42 @@ std::string numbered(const std::string& stem, std::int64_t number, const std::st
   return stem + "_" + digits + extension;
 }
 
-const std::vector<std::string> series_columns = {"step",
-                                                 "time",
-                                                 "translational_energy",
-                                                 "rotational_energy",
-                                                 "potential_energy",
-                                                 "particles",
-                                                 "pair_contacts",
-                                                 "wall_contacts",
-                                                 "largest_overlap_ratio",
-                                                 "discharged_mass",
-                                                 "discharged_count",
-                                                 "list_builds"};
+const std::vector<std::string> base_series_columns = {"step",
+                                                      "time",
+                                                      "translational_energy",
+                                                      "rotational_energy",
+                                                      "potential_energy",
+                                                      "particles",
+                                                      "pair_contacts",
+                                                      "wall_contacts",
+                                                      "largest_overlap_ratio",
+                                                      "discharged_mass",
+                                                      "discharged_count",
+                                                      "list_builds"};
+
+std::vector<double> base_series_row(const Diagnostics& d);
+
+// The base columns, then the particles of each source ("source:<name>") and of each tag
+// ("tag:<tag>").
+std::vector<std::string> series_columns(const Engine& engine) {
+  std::vector<std::string> columns = base_series_columns;
+  for (const std::string& name : engine.source_names())
+    columns.push_back("source:" + name);
+  for (const std::string& tag : engine.tag_names())
+    columns.push_back("tag:" + tag);
+  return columns;
+}
 
 std::vector<double> series_row(const Diagnostics& d) {
+  std::vector<double> row = base_series_row(d);
+  for (std::int64_t count : d.particles_per_source)
+    row.push_back(double(count));
+  for (std::int64_t count : d.particles_per_tag)
+    row.push_back(double(count));
+  return row;
+}
+
+std::vector<double> base_series_row(const Diagnostics& d) {
   return {double(d.step),
           d.time,
           d.translational_energy,
@@ -94,10 +116,10 @@ void warn_about_initial_overlaps(const Engine& engine, bool quiet) {
 
 class OutputWriter {
 public:
-  OutputWriter(const fs::path& directory, const SceneConfig& scene, double dt)
+  OutputWriter(const fs::path& directory, const SceneConfig& scene, const Engine& engine, double dt)
       : directory_(directory), particles_pvd_(directory, "particles"),
         surfaces_pvd_(directory, "shapes"), walls_pvd_(directory, "walls"),
-        series_(directory / "series.csv", series_columns),
+        series_(directory / "series.csv", series_columns(engine)),
         frame_every_(steps_per(scene.output.frame_interval, dt, 0)),
         series_every_(steps_per(scene.output.series_interval, dt, 100)),
         checkpoint_every_(steps_per(scene.output.checkpoint_interval, dt, 0)) {
@@ -235,7 +257,7 @@ int run_scene(const RunOptions& options) {
   warn_about_initial_overlaps(*engine, options.quiet);
   try {
     const fs::path directory = scene.output.directory;
-    OutputWriter output(directory, scene, engine->time_step());
+    OutputWriter output(directory, scene, *engine, engine->time_step());
     const std::int64_t total_steps = std::llround(scene.duration / scene.time_step);
     std::int64_t remaining = std::max<std::int64_t>(0, total_steps - engine->step_count());
     if (options.max_steps >= 0)

@@ -74,6 +74,8 @@ struct SuperquadricContactConfig {
 
 struct ParticleSourceConfig {
   std::string name;
+  std::string tag; // user label of its particles (frames, checkpoints, series.csv); may repeat
+                   // across sources; empty: none
   std::string material;
   std::string shape;            // name of a ShapeConfig; empty: spheres sized by `sizes`
   SizeDistributionConfig sizes; // for a shaped source: monodisperse, radius = smallest semi-axis

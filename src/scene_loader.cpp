@@ -773,9 +773,11 @@ SizeDistributionConfig sizes_of_shape(const ShapeConfig& shape) {
 ParticleSourceConfig read_source(const Value& value, const SceneConfig& scene, UniqueNames& names) {
   const Mapping map(value, {"name", "material", "size", "shape", "region", "count",
                             "volume_fraction", "random_orientation", "orientation", "velocity",
-                            "angular_velocity", "seed", "rate", "start", "interval"});
+                            "angular_velocity", "seed", "rate", "start", "interval", "tag"});
   ParticleSourceConfig source;
   source.name = unique_name(map.get("name"), names);
+  if (auto value_found = map.find("tag"))
+    source.tag = text(*value_found, "a tag (a word or phrase)");
   source.material = material_named(map.get("material"), scene.materials).name;
   if (exactly_one_key(map, {"size", "shape"}) == "size") {
     source.sizes = read_sizes(map.get("size"));

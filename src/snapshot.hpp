@@ -18,6 +18,10 @@ struct ParticleSnapshot {
   std::vector<int> shape;               // N, shape template id (0 = sphere)
   std::vector<int> material;            // N
   std::vector<std::int64_t> id;         // N, stable particle id
+  // N each: index of the source that made the particle (-1: added by the program) and of its
+  // tag (-1: none), with the names they index; empty when the writer has no sources.
+  std::vector<int> source, tag;
+  std::vector<std::string> source_names, tag_names;
   // Shape of each particle as a superquadric (a sphere is a = b = c = r, n1 = n2 = 2); empty
   // when the writer of the snapshot has no shapes (then frames carry only the radius).
   std::vector<double> half_axes;  // 3N, m, semi-axes a, b, c along body x, y, z

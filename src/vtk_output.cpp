@@ -75,6 +75,10 @@ void check_particle_lengths(const fs::path& path, const ParticleSnapshot& snapsh
   check_length(path, "shape", snapshot.shape.size(), 1, count, "particle");
   check_length(path, "material", snapshot.material.size(), 1, count, "particle");
   check_length(path, "id", snapshot.id.size(), 1, count, "particle");
+  if (!snapshot.source.empty() || !snapshot.tag.empty()) {
+    check_length(path, "source", snapshot.source.size(), 1, count, "particle");
+    check_length(path, "tag", snapshot.tag.size(), 1, count, "particle");
+  }
   if (!snapshot.half_axes.empty() || !snapshot.blockiness.empty()) {
     check_length(path, "half_axes", snapshot.half_axes.size(), 3, count, "particle");
     check_length(path, "blockiness", snapshot.blockiness.size(), 2, count, "particle");
@@ -223,6 +227,17 @@ std::string xml_attribute_escaped(const std::string& text) {
 
 } // namespace
 
+namespace {
+vtkSmartPointer<vtkStringArray> string_array(const std::string& name,
+                                             const std::vector<std::string>& values) {
+  auto array = vtkSmartPointer<vtkStringArray>::New();
+  array->SetName(name.c_str());
+  for (const std::string& value : values)
+    array->InsertNextValue(value);
+  return array;
+}
+} // namespace
+
 void write_particles_vtu(const fs::path& path, const ParticleSnapshot& snapshot) {
   check_particle_lengths(path, snapshot);
   std::vector<vtkIdType> point_of_vertex(snapshot.size());
@@ -245,6 +260,12 @@ void write_particles_vtu(const fs::path& path, const ParticleSnapshot& snapshot)
   if (!snapshot.half_axes.empty()) {
     point_data->AddArray(make_array<vtkDoubleArray>("half_axes", 3, snapshot.half_axes));
     point_data->AddArray(make_array<vtkDoubleArray>("blockiness", 2, snapshot.blockiness));
+  }
+  if (!snapshot.source.empty()) {
+    point_data->AddArray(make_array<vtkIntArray>("source", 1, snapshot.source));
+    point_data->AddArray(make_array<vtkIntArray>("tag", 1, snapshot.tag));
+    grid->GetFieldData()->AddArray(string_array("source_names", snapshot.source_names));
+    grid->GetFieldData()->AddArray(string_array("tag_names", snapshot.tag_names));
   }
   add_time_field_data(grid, snapshot.time, snapshot.step);
 
@@ -289,10 +310,7 @@ void write_wall_vtp(const fs::path& path, const WallSurface& wall) {
   auto surface = vtkSmartPointer<vtkPolyData>::New();
   surface->SetPoints(make_points(wall.points));
   surface->SetPolys(make_uniform_cells(3, connectivity));
-  auto name = vtkSmartPointer<vtkStringArray>::New();
-  name->SetName("name");
-  name->InsertNextValue(wall.name);
-  surface->GetFieldData()->AddArray(name);
+  surface->GetFieldData()->AddArray(string_array("name", {wall.name}));
 
   write_with_xml_writer(vtkSmartPointer<vtkXMLPolyDataWriter>::New(), surface, path);
 }

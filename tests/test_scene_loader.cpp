@@ -984,3 +984,21 @@ TEST(SceneOrientation, ZeroQuaternion) {
 }
 
 } // namespace
+
+namespace {
+
+TEST(SourceTags, ATagIsReadAndNoneIsTheDefault) {
+  EXPECT_EQ(load_text(minimal_scene()).sources.at(0).tag, "");
+  const SceneConfig tagged =
+      load_text(minimal_scene_with(13, "    count: 100\n    tag: tracer red"));
+  EXPECT_EQ(tagged.sources.at(0).tag, "tracer red");
+}
+
+TEST(SourceTags, AnEmptyOrStructuredTagIsRefused) {
+  EXPECT_TRUE(fails_with(minimal_scene_with(13, "    count: 100\n    tag: \"\""), 14,
+                         "particles[0].tag", "a tag"));
+  EXPECT_TRUE(fails_with(minimal_scene_with(13, "    count: 100\n    tag: [a, b]"), 14,
+                         "particles[0].tag", "a tag"));
+}
+
+} // namespace
