@@ -10,7 +10,9 @@
 namespace kdem {
 namespace {
 
-// 2: particles carry their source and tag; pair and wall lists their contact slots.
+// 2: particles carry their source and tag; pair and wall lists their contact slots. Format 1
+// files are read too: their particles get no source or tag (-1), their lists one slot per
+// pair or entry.
 constexpr std::int64_t checkpoint_format = 2;
 
 template <class View> void save_view(Hdf5Writer& out, const std::string& name, const View& view) {
@@ -32,6 +34,26 @@ template <class View> void load_view(const Hdf5Reader& in, const std::string& na
   const auto shape = in.shape(name);
   const int columns = shape.size() == 2 ? int(shape[1]) : 1;
   view = view_from_host<View>(name, values, columns);
+}
+
+// The datasets format 2 added, and what a format 1 file stands for instead.
+bool added_in_format_2(const std::string& name) {
+  return name == "particles/source" || name == "particles/tag" || name == "pairs/contact_start" ||
+         name == "pairs/feature_i" || name == "pairs/feature_j" ||
+         name == "wall_contacts/contact_start" || name == "wall_contacts/feature";
+}
+
+template <class View>
+void load_view_of_format(const Hdf5Reader& in, std::int64_t format, const std::string& name,
+                         View& view, int particle_count) {
+  if (format >= 2 || !added_in_format_2(name)) {
+    load_view(in, name, view);
+    return;
+  }
+  const bool per_particle = name.rfind("particles/", 0) == 0;
+  view = View(name, per_particle ? particle_count : 0);
+  if (per_particle)
+    Kokkos::deep_copy(view, -1);
 }
 
 // For readers of the file (pictures, analyses): shape id k > 0 is row k - 1 of these. Not read
@@ -113,7 +135,9 @@ void Engine::read_checkpoint(const std::string& path) {
     if (!ok)
       throw std::runtime_error(path + ": checkpoint does not match the scene: " + what);
   };
-  require(in.read_scalar_int64("format") == checkpoint_format, "unknown checkpoint format");
+  const std::int64_t format = in.read_scalar_int64("format");
+  require(format == 1 || format == checkpoint_format,
+          "unknown checkpoint format " + std::to_string(format));
   require(in.read_scalar_int64("material_count") == std::int64_t(s.scene.materials.size()),
           "material count differs");
   require(in.read_scalar_int64("wall_element_count") == s.walls.elements.count,
@@ -137,18 +161,21 @@ void Engine::read_checkpoint(const std::string& path) {
     s.sources[k].next_insertion = in.read_scalar_double(group + "next_insertion");
     s.sources[k].owed = in.read_scalar_double(group + "owed");
   }
+  const int particle_count = int(in.read_scalar_int64("particle_count"));
   for_each_particle_field([&](const char* name, auto member) {
-    load_view(in, std::string("particles/") + name, s.particles.*member);
+    load_view_of_format(in, format, std::string("particles/") + name, s.particles.*member,
+                        particle_count);
   });
-  s.particles.count = int(in.read_scalar_int64("particle_count"));
+  s.particles.count = particle_count;
   load_view(in, "ids_at_build", s.ids_at_build);
   for_each_pair_list_field([&](const char* name, auto member) {
-    load_view(in, std::string("pairs/") + name, s.pairs.*member);
+    load_view_of_format(in, format, std::string("pairs/") + name, s.pairs.*member, 0);
   });
   s.pairs.pair_count = int(in.read_scalar_int64("pair_count"));
   s.pairs.slot_count = int(s.pairs.overlap.extent(0));
   for_each_wall_contact_field([&](const char* name, auto member) {
-    load_view(in, std::string("wall_contacts/") + name, s.wall_contacts.*member);
+    load_view_of_format(in, format, std::string("wall_contacts/") + name, s.wall_contacts.*member,
+                        0);
   });
   s.wall_contacts.entry_count = int(in.read_scalar_int64("wall_entry_count"));
   s.wall_contacts.slot_count = int(s.wall_contacts.overlap.extent(0));
