@@ -464,52 +464,70 @@ struct WallSlots {
   }
 };
 
-// One contact point per entry: the entry's slot.
-template <bool RollingResistance, class RowOf, class ContactOf>
-void compute_wall_contacts_one_each(const std::string& label, const ParticleViews& p,
-                                    const WallSet& walls, const WallContactList& list,
-                                    const CoefficientTable& table, double dt, int count,
-                                    RowOf row_of, ContactOf contact_of) {
-  auto el = walls.elements;
-  auto pose = walls.pose;
-  auto row_start = list.row_start;
-  auto element = list.element;
-  const WallSlots slots(list);
-  Kokkos::parallel_for(
-      label, RangePolicy(0, count), KOKKOS_LAMBDA(int m) {
-        const int i = row_of(m);
-        for (int k = row_start(i); k < row_start(i + 1); ++k) {
-          const int e = element(k);
-          const WallPose wall = pose(el.wall(e));
-          WallContactGeometry contact;
-          if (wall.active != 0)
-            contact = contact_of(i, e, wall);
-          const int s = slots.slots.first(k);
-          if (!contact.geometry.touching) {
-            slots.clear_slot(s);
-            store3(slots.force_on_i, k, Vec3{});
-            store3(slots.torque_on_i, k, Vec3{});
-            continue;
-          }
-          ContactHistory history = slots.history_of<RollingResistance>(s);
-          Vec3 torque;
-          const ContactOutput out =
-              wall_contact_law<RollingResistance>(p, i, wall, contact, table, dt, history, torque);
-          slots.keep<RollingResistance>(s, history, contact.geometry.overlap);
-          store3(slots.force_on_i, k, out.force_on_i);
-          store3(slots.torque_on_i, k, torque);
-        }
-      });
+// The contacts of particle i with element e of a wall at `wall`: a functor of one contact point
+// gives it (or none), one of several fills `found` itself.
+template <class ContactOf, int K>
+KOKKOS_INLINE_FUNCTION void find_wall_contacts(const ContactOf& contact_of, int i, int e,
+                                               const WallPose& wall, WallContacts<K>& found) {
+  if constexpr (K == 1) {
+    found.contact[0] = contact_of(i, e, wall);
+    found.count = found.contact[0].geometry.touching ? 1 : 0;
+  } else {
+    contact_of(i, e, wall, found);
+  }
 }
 
-// Several contact points per entry: each takes the history of the slot that held the same
-// feature at the last step (or a fresh one); they are written from the entry's first slot on,
-// in the functor's order, and summed in that order.
-template <bool RollingResistance, int K, class RowOf, class ContactOf>
-void compute_wall_contacts_several(const std::string& label, const ParticleViews& p,
-                                   const WallSet& walls, const WallContactList& list,
-                                   const CoefficientTable& table, double dt, int count,
-                                   RowOf row_of, ContactOf contact_of) {
+// Stores the contacts of entry k of particle i: with one slot per entry, into it; with
+// several, each takes the history of the slot that held the same feature at the last step (or
+// a fresh one), they are written from the entry's first slot on in the functor's order, and
+// their forces and torques summed in that order.
+template <bool RollingResistance, int K>
+KOKKOS_INLINE_FUNCTION void store_wall_contacts(const WallSlots& slots, int k,
+                                                const ParticleViews& p, int i, const WallPose& wall,
+                                                const WallContacts<K>& found,
+                                                const CoefficientTable& table, double dt) {
+  const int first = slots.slots.first(k), capacity = slots.slots.end(k) - first;
+  const int kept = capacity < K ? capacity : K;
+  int last_feature[K];
+  ContactHistory last_history[K];
+  for (int c = 0; c < kept; ++c) {
+    last_feature[c] = K == 1 ? 0 : slots.feature(first + c);
+    last_history[c] = slots.history_of<RollingResistance>(first + c);
+  }
+  const int n = found.count < kept ? found.count : kept;
+  Vec3 force, torque;
+  for (int c = 0; c < n; ++c) {
+    const WallContactGeometry& contact = found.contact[c];
+    ContactHistory history{};
+    for (int last = 0; last < kept; ++last)
+      if (last_feature[last] == contact.feature)
+        history = last_history[last];
+    Vec3 contact_torque;
+    const ContactOutput out = wall_contact_law<RollingResistance>(p, i, wall, contact, table, dt,
+                                                                  history, contact_torque);
+    slots.keep<RollingResistance>(first + c, history, contact.geometry.overlap);
+    if (K > 1)
+      slots.feature(first + c) = contact.feature;
+    force = c == 0 ? out.force_on_i : force + out.force_on_i;
+    torque = c == 0 ? contact_torque : torque + contact_torque;
+  }
+  for (int c = n; c < capacity; ++c)
+    slots.clear_slot(first + c);
+  store3(slots.force_on_i, k, force);
+  store3(slots.torque_on_i, k, torque);
+}
+
+// The wall contacts of `count` particles (the m-th particle is row row_of(m)), stored per
+// candidate entry like pair contacts and summed per particle by sum_forces. The family's
+// functor contact_of gives, for particle i and element e of a wall at its pose, one contact
+// (max_contacts == 1: WallContactGeometry operator()(i, e, pose)) or several
+// (void operator()(i, e, pose, WallContacts<max_contacts>&)); SphereWallContact below, each
+// family's wall_contact.
+template <bool RollingResistance, class RowOf, class ContactOf>
+void compute_wall_contacts(const std::string& label, const ParticleViews& p, const WallSet& walls,
+                           const WallContactList& list, const CoefficientTable& table, double dt,
+                           int count, RowOf row_of, ContactOf contact_of) {
+  constexpr int K = ContactOf::max_contacts;
   auto el = walls.elements;
   auto pose = walls.pose;
   auto row_start = list.row_start;
@@ -523,55 +541,10 @@ void compute_wall_contacts_several(const std::string& label, const ParticleViews
           const WallPose wall = pose(el.wall(e));
           WallContacts<K> found;
           if (wall.active != 0)
-            contact_of(i, e, wall, found);
-          const int first = slots.slots.first(k), capacity = slots.slots.end(k) - first;
-          const int kept = capacity < K ? capacity : K;
-          int last_feature[K];
-          ContactHistory last_history[K];
-          for (int c = 0; c < kept; ++c) {
-            last_feature[c] = slots.feature(first + c);
-            last_history[c] = slots.history_of<RollingResistance>(first + c);
-          }
-          const int n = found.count < kept ? found.count : kept;
-          Vec3 force, torque;
-          for (int c = 0; c < n; ++c) {
-            const WallContactGeometry& contact = found.contact[c];
-            ContactHistory history{};
-            for (int last = 0; last < kept; ++last)
-              if (last_feature[last] == contact.feature)
-                history = last_history[last];
-            Vec3 contact_torque;
-            const ContactOutput out = wall_contact_law<RollingResistance>(
-                p, i, wall, contact, table, dt, history, contact_torque);
-            slots.keep<RollingResistance>(first + c, history, contact.geometry.overlap);
-            slots.feature(first + c) = contact.feature;
-            force = c == 0 ? out.force_on_i : force + out.force_on_i;
-            torque = c == 0 ? contact_torque : torque + contact_torque;
-          }
-          for (int c = n; c < capacity; ++c)
-            slots.clear_slot(first + c);
-          store3(slots.force_on_i, k, force);
-          store3(slots.torque_on_i, k, torque);
+            find_wall_contacts(contact_of, i, e, wall, found);
+          store_wall_contacts<RollingResistance>(slots, k, p, i, wall, found, table, dt);
         }
       });
-}
-
-// The wall contacts of `count` particles (the m-th particle is row row_of(m)), stored per
-// candidate entry like pair contacts and summed per particle by sum_forces. The family's
-// functor contact_of gives, for particle i and element e of a wall at its pose, one contact
-// (max_contacts == 1: WallContactGeometry operator()(i, e, pose)) or several
-// (void operator()(i, e, pose, WallContacts<max_contacts>&)); SphereWallContact below, each
-// family's wall_contact.
-template <bool RollingResistance, class RowOf, class ContactOf>
-void compute_wall_contacts(const std::string& label, const ParticleViews& p, const WallSet& walls,
-                           const WallContactList& list, const CoefficientTable& table, double dt,
-                           int count, RowOf row_of, ContactOf contact_of) {
-  if constexpr (ContactOf::max_contacts == 1)
-    compute_wall_contacts_one_each<RollingResistance>(label, p, walls, list, table, dt, count,
-                                                      row_of, contact_of);
-  else
-    compute_wall_contacts_several<RollingResistance, ContactOf::max_contacts>(
-        label, p, walls, list, table, dt, count, row_of, contact_of);
 }
 
 // A sphere against a wall element: the closest-point query in the wall's frame.

@@ -127,6 +127,19 @@ struct PosedSuperquadric {
 
   KOKKOS_INLINE_FUNCTION Vec3 to_local(Vec3 x) const { return transpose(rotation) * (x - centre); }
   KOKKOS_INLINE_FUNCTION Vec3 to_world(Vec3 local) const { return centre + rotation * local; }
+  // The surface concept of the narrow-phase numerics (shapes/implicit_surface.hpp).
+  template <bool WithHessian> KOKKOS_INLINE_FUNCTION ShapeFunction local(Vec3 x_local) const {
+    return superquadric_local<WithHessian>(shape, x_local);
+  }
+  KOKKOS_INLINE_FUNCTION double smallest_length() const {
+    return math::min(shape.a, math::min(shape.b, shape.c));
+  }
+  KOKKOS_INLINE_FUNCTION double reach() const {
+    return math::sqrt(shape.a * shape.a + shape.b * shape.b + shape.c * shape.c);
+  }
+  KOKKOS_INLINE_FUNCTION double equivalent_radius() const {
+    return math::cbrt(shape.a * shape.b * shape.c);
+  }
   KOKKOS_INLINE_FUNCTION double value(Vec3 x) const {
     return superquadric_local<false>(shape, to_local(x)).value;
   }

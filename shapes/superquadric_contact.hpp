@@ -9,6 +9,7 @@
 // search on |residual|^2 that only accepts steps that decrease it. If that fails, a homotopy
 // morphs both bodies from spheres (where the solution is exact) to the real shapes in stages.
 // The overlap is the chord of the intersection along the normal line through X0.
+#include "implicit_surface.hpp"
 #include "small_solve.hpp"
 #include "sphere.hpp"
 #include "superquadric.hpp"
@@ -161,9 +162,10 @@ KOKKOS_INLINE_FUNCTION bool newton_solve(const Problem& problem, Unknowns& u,
 }
 
 // The midway-point system of Eq. 2.9 in the length unit L: r = [L (g_i + lambda^2 g_j); F_i - F_j],
-// unknowns (X / L, lambda).
-struct MidwayProblem {
-  PosedSuperquadric i, j;
+// unknowns (X / L, lambda), for any two surfaces of the concept of implicit_surface.hpp.
+template <class SurfaceI, class SurfaceJ> struct MidwayProblemOf {
+  SurfaceI i;
+  SurfaceJ j;
   double length = 1;
   double tolerance = 1e-10;
 
@@ -211,6 +213,10 @@ struct MidwayProblem {
   }
 };
 
+static_assert(is_implicit_surface<PosedSuperquadric>::value,
+              "a posed superquadric is a surface of the concept of implicit_surface.hpp");
+using MidwayProblem = MidwayProblemOf<PosedSuperquadric, PosedSuperquadric>;
+
 // Start value of lambda (digest Sect. 5): lambda^2 = -(g_i . g_j) / |g_j|^2, or |g_i| / |g_j|
 // where the gradients are far from antiparallel and that projection says little.
 KOKKOS_INLINE_FUNCTION double initial_multiplier(const ShapeFunction& fi, const ShapeFunction& fj) {
@@ -224,23 +230,23 @@ KOKKOS_INLINE_FUNCTION double initial_multiplier(const ShapeFunction& fi, const 
 }
 
 // Midway point of two spheres of the equivalent radii (abc)^(1/3) at the two centres.
-KOKKOS_INLINE_FUNCTION Vec3 sphere_midway_point(const PosedSuperquadric& i,
-                                                const PosedSuperquadric& j) {
-  const double ri = equivalent_radius(i.shape), rj = equivalent_radius(j.shape);
+template <class SurfaceI, class SurfaceJ>
+KOKKOS_INLINE_FUNCTION Vec3 sphere_midway_point(const SurfaceI& i, const SurfaceJ& j) {
+  const double ri = i.equivalent_radius(), rj = j.equivalent_radius();
   const double r = ri / (ri + rj);
   return (1.0 - r) * i.centre + r * j.centre;
 }
 
-KOKKOS_INLINE_FUNCTION MidwayProblem make_midway_problem(const PosedSuperquadric& i,
-                                                         const PosedSuperquadric& j,
-                                                         double tolerance) {
-  const double length = math::min(smallest_semi_axis(i.shape), smallest_semi_axis(j.shape));
-  return MidwayProblem{i, j, length, tolerance};
+template <class SurfaceI, class SurfaceJ>
+KOKKOS_INLINE_FUNCTION MidwayProblemOf<SurfaceI, SurfaceJ>
+make_midway_problem(const SurfaceI& i, const SurfaceJ& j, double tolerance) {
+  const double length = math::min(i.smallest_length(), j.smallest_length());
+  return MidwayProblemOf<SurfaceI, SurfaceJ>{i, j, length, tolerance};
 }
 
-KOKKOS_INLINE_FUNCTION Unknowns start_with_initial_multiplier(const MidwayProblem& problem,
-                                                              Vec3 x) {
-  const MidwayProblem::Evaluation e = problem.evaluate(Unknowns{x, 1.0});
+template <class Problem>
+KOKKOS_INLINE_FUNCTION Unknowns start_with_initial_multiplier(const Problem& problem, Vec3 x) {
+  const typename Problem::Evaluation e = problem.evaluate(Unknowns{x, 1.0});
   return Unknowns{x, initial_multiplier(e.fi, e.fj)};
 }
 
@@ -290,18 +296,18 @@ KOKKOS_INLINE_FUNCTION bool homotopy_solve(const MidwayProblem& real, Unknowns& 
 // is one. Newton steps clamped to half the smallest semi-axis and kept inside a bracket that
 // starts at [0, a bound beyond the body's bounding sphere of radius |(a, b, c)|]. Searched in
 // the body frame, where a point costs no rotation.
-KOKKOS_INLINE_FUNCTION bool surface_distance(const PosedSuperquadric& body, Vec3 origin,
-                                             Vec3 direction, double& distance) {
-  const SuperquadricShape& s = body.shape;
+template <class Surface>
+KOKKOS_INLINE_FUNCTION bool surface_distance(const Surface& body, Vec3 origin, Vec3 direction,
+                                             double& distance) {
   const Vec3 local_origin = body.to_local(origin);
   const Vec3 local_direction = transpose(body.rotation) * direction;
   double lo = 0;
-  double hi = norm(local_origin) + math::sqrt(s.a * s.a + s.b * s.b + s.c * s.c);
-  const double max_step = 0.5 * smallest_semi_axis(s);
-  const double resolution = 4.0 * double_epsilon * (hi + smallest_semi_axis(s));
+  double hi = norm(local_origin) + body.reach();
+  const double max_step = 0.5 * body.smallest_length();
+  const double resolution = 4.0 * double_epsilon * (hi + body.smallest_length());
   double x = 0;
   for (int iteration = 0; iteration < max_surface_iterations; ++iteration) {
-    const ShapeFunction f = superquadric_local<false>(s, local_origin + x * local_direction);
+    const ShapeFunction f = body.template local<false>(local_origin + x * local_direction);
     if (!kdem::is_finite(f.value))
       return false;
     if (f.value < 0)
@@ -331,15 +337,17 @@ KOKKOS_INLINE_FUNCTION bool surface_distance(const PosedSuperquadric& body, Vec3
 
 // Mean curvature of a body's surface at a world point: invariant under rotation, so taken from
 // the body-frame gradient and Hessian.
-KOKKOS_INLINE_FUNCTION double surface_mean_curvature(const PosedSuperquadric& body, Vec3 point) {
-  return mean_curvature(superquadric_local<true>(body.shape, body.to_local(point)));
+template <class Surface>
+KOKKOS_INLINE_FUNCTION double surface_mean_curvature(const Surface& body, Vec3 point) {
+  return mean_curvature(body.template local<true>(body.to_local(point)));
 }
 
 // Surface points, overlap and curvatures on the line through x0 along the unit normal (from j
 // towards i): X_i = x0 - alpha n on i's side facing j, X_j = x0 + beta n, overlap alpha + beta.
 // This is the digest's alpha0 - beta0 with its normal grad F_i / |grad F_i| = -n.
-KOKKOS_INLINE_FUNCTION bool chord_geometry(const PosedSuperquadric& i, const PosedSuperquadric& j,
-                                           Vec3 x0, Vec3 normal, NarrowPhaseResult& result) {
+template <class SurfaceI, class SurfaceJ>
+KOKKOS_INLINE_FUNCTION bool chord_geometry(const SurfaceI& i, const SurfaceJ& j, Vec3 x0,
+                                           Vec3 normal, NarrowPhaseResult& result) {
   double alpha = 0, beta = 0;
   if (!surface_distance(i, x0, -normal, alpha) || !surface_distance(j, x0, normal, beta))
     return false;
@@ -360,16 +368,15 @@ KOKKOS_INLINE_FUNCTION bool chord_geometry(const PosedSuperquadric& i, const Pos
 // reaches at most |n_i + n_j| (|x - c_j| + r_j) closer than m_j (r_j >= j's bounding radius), so
 // the bodies' projections on n_i are apart by at least m_i + m_j - that. Rounding of F (a few
 // 1e-16 of its unit-scale terms) is covered by 1e-9 L. Returns 0 where x is not outside both.
-KOKKOS_INLINE_FUNCTION double separation_bound(const PosedSuperquadric& i,
-                                               const PosedSuperquadric& j, Vec3 x,
+template <class SurfaceI, class SurfaceJ>
+KOKKOS_INLINE_FUNCTION double separation_bound(const SurfaceI& i, const SurfaceJ& j, Vec3 x,
                                                const ShapeFunction& fi, const ShapeFunction& fj) {
   const double gi = norm(fi.gradient), gj = norm(fj.gradient);
   if (!(fi.value > 0 && fj.value > 0 && gi > 0 && gj > 0))
     return 0;
-  const SuperquadricShape& sj = j.shape;
-  const double reach_j = norm(x - j.centre) + math::sqrt(sj.a * sj.a + sj.b * sj.b + sj.c * sj.c);
+  const double reach_j = norm(x - j.centre) + j.reach();
   const double tilt = norm((1.0 / gi) * fi.gradient + (1.0 / gj) * fj.gradient);
-  const double length = math::min(smallest_semi_axis(i.shape), smallest_semi_axis(sj));
+  const double length = math::min(i.smallest_length(), j.smallest_length());
   const double bound = fi.value / gi + fj.value / gj - tilt * reach_j - 1e-9 * length;
   return kdem::is_finite(bound) && bound > 0 ? bound : 0.0;
 }
@@ -384,8 +391,8 @@ KOKKOS_INLINE_FUNCTION NarrowPhaseResult failed_result(int iterations) {
 // Closest point p of body j's surface to a point c: c - p = nu L g~ with g~ = L grad F_j(p) and
 // F_j(p) = 0, in the length unit L; r = [(c - p) / L - nu g~; F_j], unknowns (p / L, nu).
 // nu > 0 for c outside, < 0 inside.
-struct ClosestPointProblem {
-  PosedSuperquadric body;
+template <class Surface> struct ClosestPointProblemOf {
+  Surface body;
   Vec3 target;
   double length = 1;
   double tolerance = 1e-10;
@@ -399,7 +406,7 @@ struct ClosestPointProblem {
 
   KOKKOS_INLINE_FUNCTION Evaluation evaluate(const Unknowns& u) const {
     Evaluation e;
-    e.f = body.evaluate<true>(u.x);
+    e.f = body.template evaluate<true>(u.x);
     const Vec3 r = (1.0 / length) * (target - u.x) - (u.w * length) * e.f.gradient;
     e.residual = Vector4{{r.x, r.y, r.z, e.f.value}};
     e.merit = squared_norm(e.residual);
@@ -432,8 +439,11 @@ struct ClosestPointProblem {
   }
 };
 
-KOKKOS_INLINE_FUNCTION Unknowns closest_point_start(const ClosestPointProblem& problem, Vec3 p) {
-  const ShapeFunction f = problem.body.evaluate<false>(p);
+using ClosestPointProblem = ClosestPointProblemOf<PosedSuperquadric>;
+
+template <class Problem>
+KOKKOS_INLINE_FUNCTION Unknowns closest_point_start(const Problem& problem, Vec3 p) {
+  const ShapeFunction f = problem.body.template evaluate<false>(p);
   const Vec3 g = problem.length * f.gradient;
   const double g2 = norm2(g);
   const double nu = g2 > 0 ? dot((1.0 / problem.length) * (problem.target - p), g) / g2 : 0.0;
