@@ -58,11 +58,11 @@ void load_view_of_format(const Hdf5Reader& in, std::int64_t format, const std::s
 
 // For readers of the file (pictures, analyses): shape id k > 0 is row k - 1 of these. Not read
 // back: the scene defines the templates.
-void write_shape_templates(Hdf5Writer& out, const std::vector<SuperquadricShape>& templates) {
+void write_shape_templates(Hdf5Writer& out, const std::vector<ShapeTemplate>& templates) {
   std::vector<double> half_axes, blockiness;
-  for (const SuperquadricShape& t : templates) {
-    half_axes.insert(half_axes.end(), {t.a, t.b, t.c});
-    blockiness.insert(blockiness.end(), {t.n1, t.n2});
+  for (const ShapeTemplate& t : templates) {
+    half_axes.insert(half_axes.end(), t.output_half_axes.begin(), t.output_half_axes.end());
+    blockiness.insert(blockiness.end(), t.output_blockiness.begin(), t.output_blockiness.end());
   }
   out.write("shapes/half_axes", half_axes, {hsize_t(templates.size()), 3});
   out.write("shapes/blockiness", blockiness, {hsize_t(templates.size()), 2});
@@ -115,7 +115,7 @@ void Engine::write_checkpoint(const std::string& path) const {
   for_each_particle_field([&](const char* name, auto member) {
     save_view(out, std::string("particles/") + name, s.particles.*member);
   });
-  write_shape_templates(out, s.superquadric_templates);
+  write_shape_templates(out, s.shape_templates);
   write_names(out, "source_names", s.source_names());
   write_names(out, "tag_names", s.tag_names);
   save_view(out, "ids_at_build", s.ids_at_build);

@@ -307,7 +307,7 @@ void Engine::State::append_particles(const std::vector<ParticleInit>& added) {
   particles = grown;
   for (const ParticleInit& p : added) {
     const double radius =
-        p.shape == sphere_shape ? p.radius : template_bounding_radius[p.shape - 1];
+        p.shape == sphere_shape ? p.radius : shape_templates[p.shape - 1].bounding_radius;
     largest_radius = std::max(largest_radius, radius);
     smallest_radius = std::min(smallest_radius, radius);
     mark_family_present(p.shape);
@@ -333,7 +333,7 @@ ParticleViews Engine::State::upload_new_particles(const std::vector<ParticleInit
   auto id = Kokkos::create_mirror_view(p.id);
   for (int i = 0; i < p.count; ++i) {
     const ParticleInit& a = added[i];
-    if (a.shape < 0 || a.shape > int(superquadric_templates.size()))
+    if (a.shape < 0 || a.shape > int(shape_templates.size()))
       throw std::runtime_error("particle shape id out of range");
     if (a.shape == sphere_shape && !(a.radius > 0))
       throw std::runtime_error("particle radius must be positive");
@@ -355,11 +355,12 @@ ParticleViews Engine::State::upload_new_particles(const std::vector<ParticleInit
         inertia(i, c) = sphere_inertia(mass(i), a.radius);
     } else {
       const int k = a.shape - 1;
-      radius(i) = template_bounding_radius[k];
-      mass(i) = density * template_volume[k];
-      inertia(i, 0) = density * template_inertia_per_density[k].x;
-      inertia(i, 1) = density * template_inertia_per_density[k].y;
-      inertia(i, 2) = density * template_inertia_per_density[k].z;
+      const ShapeTemplate& t = shape_templates[k];
+      radius(i) = t.bounding_radius;
+      mass(i) = density * t.volume;
+      inertia(i, 0) = density * t.inertia_per_density.x;
+      inertia(i, 1) = density * t.inertia_per_density.y;
+      inertia(i, 2) = density * t.inertia_per_density.z;
     }
     material(i) = a.material;
     shape(i) = a.shape;
@@ -644,7 +645,7 @@ ParticleSnapshot Engine::State::make_snapshot() const {
   snap.tag = flatten_to_host(p.tag, p.count);
   snap.source_names = source_names();
   snap.tag_names = tag_names;
-  if (!superquadric_templates.empty())
+  if (!shape_templates.empty())
     add_shapes_to_snapshot(snap);
   return snap;
 }
@@ -653,13 +654,14 @@ void Engine::State::add_shapes_to_snapshot(ParticleSnapshot& snap) const {
   snap.half_axes.resize(3 * snap.size());
   snap.blockiness.resize(2 * snap.size());
   for (std::size_t i = 0; i < snap.size(); ++i) {
-    SuperquadricShape shape =
-        make_superquadric(snap.radius[i], snap.radius[i], snap.radius[i], 2, 2);
-    if (snap.shape[i] != sphere_shape)
-      shape = superquadric_templates[snap.shape[i] - 1];
-    snap.half_axes[3 * i] = shape.a, snap.half_axes[3 * i + 1] = shape.b;
-    snap.half_axes[3 * i + 2] = shape.c;
-    snap.blockiness[2 * i] = shape.n1, snap.blockiness[2 * i + 1] = shape.n2;
+    ShapeTemplate sphere;
+    sphere.output_half_axes = {snap.radius[i], snap.radius[i], snap.radius[i]};
+    const ShapeTemplate& t =
+        snap.shape[i] == sphere_shape ? sphere : shape_templates[snap.shape[i] - 1];
+    for (int c = 0; c < 3; ++c)
+      snap.half_axes[3 * i + c] = t.output_half_axes[c];
+    for (int c = 0; c < 2; ++c)
+      snap.blockiness[2 * i + c] = t.output_blockiness[c];
   }
 }
 
@@ -713,8 +715,8 @@ TimeStepAdvice Engine::time_step_advice() const {
   const State& s = *state_;
   TimeStepAdvice advice;
   double r = s.smallest_radius < 1e300 ? s.smallest_radius : s.largest_radius;
-  for (double radius : s.template_equivalent_radius) // not the bounding radius of a superquadric
-    r = std::min(r, radius);
+  for (const ShapeTemplate& t : s.shape_templates) // not the bounding radius of a shaped body
+    r = std::min(r, t.equivalent_radius);
   if (!(r > 0))
     return advice;
   double height = s.domain_max[2] - s.domain_min[2];

@@ -18,6 +18,20 @@ namespace kdem {
 // Shape id of the named entry of scene.shapes (k + 1 for entry k); throws for unknown names.
 int shape_id_of(const SceneConfig& scene, const std::string& name);
 
+// A scene shape as the engine's host code needs it, whatever its family.
+struct ShapeTemplate {
+  int family = 0;               // index in the family registry
+  int family_template = 0;      // its row in the family's device table
+  double bounding_radius = 0;   // m, about the centre
+  double volume = 0;            // m^3
+  Vec3 inertia_per_density;     // m^5, principal, body frame
+  double equivalent_radius = 0; // m, of the sphere of equal volume
+  // How snapshots draw it: semi-axes and exponents of a superquadric (the output format of
+  // frames; a sphere is a = b = c = r, n1 = n2 = 2).
+  std::array<double, 3> output_half_axes{};
+  std::array<double, 2> output_blockiness{2, 2};
+};
+
 struct SourceState {
   std::mt19937_64 rng;
   int material = 0;
@@ -41,13 +55,9 @@ struct Engine::State {
 
   bool rolling = false;
   CoefficientTable coefficients;
-  // Shape templates: host copies (index k = superquadric template k, particle shape id k + 1)
-  // and the device table; per source, the shape id its particles get.
-  std::vector<SuperquadricShape> superquadric_templates;
-  std::vector<double> template_volume;            // m^3
-  std::vector<Vec3> template_inertia_per_density; // m^5, principal, body frame
-  std::vector<double> template_bounding_radius;   // m
-  std::vector<double> template_equivalent_radius; // m, of the sphere of equal volume
+  // The scene's shapes (index k: shape id k + 1) as host code needs them, filled by each
+  // family's setup; per source, the shape id its particles get.
+  std::vector<ShapeTemplate> shape_templates;
   std::vector<int> source_shape;
   // Families: of each shape id (host and device), the template tables, which families the
   // scene holds (bit f: family f of the registry; from its sources and particles), and the rows
@@ -81,6 +91,7 @@ struct Engine::State {
 
   void setup_materials();
   void setup_shapes();
+  void setup_superquadric_shapes();
   void classify_families(const PairList& list);
   void setup_domain();
   void setup_walls();

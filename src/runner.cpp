@@ -210,7 +210,7 @@ RunSummary summarise(const Engine& engine, const OutputWriter& output, std::int6
   summary.particles = d.particles;
   summary.steps = steps;
   summary.contacts = d.pair_contacts + d.wall_contacts;
-  const NarrowPhaseTotals narrow = engine.narrow_phase_totals(); // superquadric contacts only
+  const NarrowPhaseTotals narrow = engine.narrow_phase_totals(); // iterative narrow phases only
   summary.narrow_phase_failures = narrow.failures;
   summary.wall_seconds = seconds;
   summary.particle_steps_per_second = seconds > 0 ? particle_steps / seconds : 0;
