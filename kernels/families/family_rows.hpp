@@ -81,7 +81,7 @@ void rows_by_key(const std::string& label, int count, KeyOf key_of, RowSet (&set
 }
 
 // The most contact points a pair of bodies of families A and B can have: one per pair of the
-// features each may touch with (spheres and superquadrics: 1; a clump of n elements: n).
+// features each may touch with (a sphere: 1; a clump of n elements: n).
 template <class A, class B>
 constexpr int pair_contact_points = A::contact_points* B::contact_points;
 
