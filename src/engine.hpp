@@ -18,14 +18,14 @@ struct ParticleInit {
   Vec3d velocity{0, 0, 0};
   Vec3d angular_velocity{0, 0, 0};
   std::array<double, 4> orientation{1, 0, 0, 0};
-  double radius = 0; // spheres; a superquadric's bounding radius comes from its shape
+  double radius = 0; // spheres; a shaped body's bounding radius comes from its shape
   int material = 0;
   int shape = 0;   // 0: sphere; k > 0: the k-th entry of the scene's shapes
   int source = -1; // index of the scene source that made it; -1: added by the program
   int tag = -1;    // index in Engine::tag_names(); -1: none
 };
 
-// Totals of the superquadric narrow phase since the start of the run (or the restart).
+// Totals of the iterative narrow phases since the start of the run (or the restart).
 struct NarrowPhaseTotals {
   std::int64_t evaluations = 0;
   std::int64_t iterations = 0;

@@ -167,9 +167,10 @@ std::vector<Vec3d> patch_normals(const TriangleMesh& mesh, const MeshTopology& t
   return stored;
 }
 
-// Superquadric-mesh topology: stored normals, the triangles of each edge, corner vertices and
-// the ring of neighbours of each vertex.
-void add_superquadric_topology(WallElementTable& t, const TriangleMesh& mesh,
+// Mesh topology for bodies that are not spheres (their deepest-point contacts with faces, edges
+// and vertices): stored normals, the triangles of each edge, corner vertices and the ring of
+// neighbours of each vertex.
+void add_body_contact_topology(WallElementTable& t, const TriangleMesh& mesh,
                                const MeshTopology& topo, int first_element) {
   std::vector<int> patch;
   for (const Vec3d& normal : patch_normals(mesh, topo, patch))
@@ -241,7 +242,7 @@ void add_mesh(WallElementTable& t, SurfaceBuilder& s, int wall, const WallConfig
     t.vertex_triangle_start.push_back(int(t.vertex_triangle.size()));
     t.vertex_position.push_back(mesh.points[v]);
   }
-  add_superquadric_topology(t, mesh, topo, first_element);
+  add_body_contact_topology(t, mesh, topo, first_element);
   // Features are told apart to 1e-9 of the mesh size: far below any overlap that matters, far
   // above the rounding of the tests that compare them.
   t.feature_tolerance = std::max(t.feature_tolerance, 1e-9 * mesh_extent(mesh));

@@ -21,10 +21,11 @@ struct WallElementTable {
   std::vector<std::array<double, 3>> edge_direction;
   std::vector<int> vertex_owner, vertex_edge_start{0}, vertex_triangle_start{0}, vertex_triangle;
   std::vector<std::array<double, 3>> vertex_position, vertex_edge_direction;
-  // For superquadric-mesh contact: per element the stored unit normal of a triangle (coplanar
-  // triangles of a mesh store the same bits, up to sign; zero for other elements), per edge its
-  // two triangles (-1: none), per vertex whether it is a corner (on the mesh boundary or where
-  // the faces around it are not coplanar) and the positions of the vertices joined to it.
+  // For the mesh contacts of bodies that are not spheres: per element the stored unit normal of a
+  // triangle (coplanar triangles of a mesh store the same bits, up to sign; zero for other
+  // elements), per edge its two triangles (-1: none), per vertex whether it is a corner (on the
+  // mesh boundary or where the faces around it are not coplanar) and the positions of the vertices
+  // joined to it.
   std::vector<std::array<double, 3>> triangle_normal;
   std::vector<std::array<int, 2>> edge_triangles;
   std::vector<int> vertex_corner, vertex_ring_start{0};
