@@ -30,4 +30,40 @@ KOKKOS_INLINE_FUNCTION int find_in_row(const IndexView& row_start, const IdView&
   return -1;
 }
 
+// What the first `kept` slots of a candidate held at the last step: the feature key and the
+// history of each. A contact found now takes the history of the slot that held its key (the
+// last such slot), or a fresh one.
+template <int K, class Key, class History> struct PreviousSlots {
+  int kept = 0;
+  Key key[K];
+  History history[K];
+
+  KOKKOS_INLINE_FUNCTION History matching(const Key& wanted) const {
+    History found{};
+    for (int m = 0; m < kept; ++m)
+      if (key[m] == wanted)
+        found = history[m];
+    return found;
+  }
+};
+
+// Reads slots [first, first + kept); `read(slot, key, history)` fills one.
+template <int K, class Key, class History, class Read>
+KOKKOS_INLINE_FUNCTION PreviousSlots<K, Key, History> read_previous_slots(int first, int kept,
+                                                                          const Read& read) {
+  PreviousSlots<K, Key, History> previous;
+  previous.kept = kept;
+  for (int m = 0; m < kept; ++m)
+    read(first + m, previous.key[m], previous.history[m]);
+  return previous;
+}
+
+// The features of a particle pair's contact point: of i, of j.
+struct FeaturePair {
+  int on_i = -1, on_j = -1;
+  KOKKOS_INLINE_FUNCTION bool operator==(const FeaturePair& other) const {
+    return on_i == other.on_i && on_j == other.on_j;
+  }
+};
+
 } // namespace kdem

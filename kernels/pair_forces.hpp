@@ -123,23 +123,18 @@ struct PairSlots {
                                             const PairCoefficients& coefficients, double dt) const {
     const int first = slots.first(k), capacity = slots.end(k) - first;
     const int kept = capacity < K ? capacity : K;
-    int last_i[K], last_j[K];
-    ContactHistory last_history[K];
-    for (int m = 0; m < kept; ++m) {
-      last_i[m] = feature_i(first + m);
-      last_j[m] = feature_j(first + m);
-      last_history[m] = history_of<RollingResistance>(first + m);
-    }
+    const auto previous = read_previous_slots<K, FeaturePair, ContactHistory>(
+        first, kept, [&](int s, FeaturePair& key, ContactHistory& history) {
+          key = {feature_i(s), feature_j(s)};
+          history = history_of<RollingResistance>(s);
+        });
     const int count = found.count < kept ? found.count : kept;
     Vec3 force, torque;
     for (int c = 0; c < count; ++c) {
       const PairContact& contact = found.contact[c];
       const int on_i = flipped ? contact.feature_b : contact.feature_a;
       const int on_j = flipped ? contact.feature_a : contact.feature_b;
-      ContactHistory history{};
-      for (int m = 0; m < kept; ++m)
-        if (last_i[m] == on_i && last_j[m] == on_j)
-          history = last_history[m];
+      ContactHistory history = previous.matching({on_i, on_j});
       Vec3 contact_torque;
       const ContactOutput out =
           law<RollingResistance>(p, i, j, contact.geometry, contact.effective_radius, coefficients,

@@ -50,27 +50,6 @@ PairCoefficients coefficients_for(const MaterialConfig& a, const MaterialConfig&
   return c;
 }
 
-template <class T, class Host>
-DeviceView<T*> upload(const std::string& label, const std::vector<Host>& values) {
-  DeviceView<T*> view(label, values.size());
-  auto mirror = Kokkos::create_mirror_view(view);
-  for (std::size_t k = 0; k < values.size(); ++k)
-    mirror(k) = values[k];
-  Kokkos::deep_copy(view, mirror);
-  return view;
-}
-
-template <class View, class Host, std::size_t N>
-View upload_rows(const std::string& label, const std::vector<std::array<Host, N>>& rows) {
-  View view(label, rows.size());
-  auto mirror = Kokkos::create_mirror_view(view);
-  for (std::size_t k = 0; k < rows.size(); ++k)
-    for (std::size_t c = 0; c < N; ++c)
-      mirror(k, c) = rows[k][c];
-  Kokkos::deep_copy(view, mirror);
-  return view;
-}
-
 } // namespace
 
 Engine::Engine(const SceneConfig& scene) : state_(std::make_unique<State>()) {

@@ -3,21 +3,9 @@
 #include <stdexcept>
 
 #include "engine_state.hpp"
+#include "host_copy.hpp"
 
 namespace kdem {
-namespace {
-
-IndexView upload_ints(const std::string& label, const std::vector<int>& values) {
-  IndexView view(label, values.size());
-  auto mirror = Kokkos::create_mirror_view(view);
-  for (std::size_t k = 0; k < values.size(); ++k)
-    mirror(k) = values[k];
-  Kokkos::deep_copy(view, mirror);
-  return view;
-}
-
-} // namespace
-
 // Shape id 0 is a sphere of its particle's radius; shape id k + 1 is entry k of the scene's
 // shapes, set up by its family. Then the device map from shape id to family and template, and
 // the shape id of each source.
@@ -29,8 +17,8 @@ void Engine::State::setup_shapes() {
     family_of_shape.push_back(t.family);
     template_of_shape.push_back(t.family_template);
   }
-  shape_families.family_of_shape = upload_ints("shape_family", family_of_shape);
-  shape_families.template_of_shape = upload_ints("shape_template", template_of_shape);
+  shape_families.family_of_shape = upload<int>("shape_family", family_of_shape);
+  shape_families.template_of_shape = upload<int>("shape_template", template_of_shape);
 
   // A shaped source places bounding spheres; its volume fraction counts the true volume.
   for (ParticleSourceConfig& source : scene.sources) {

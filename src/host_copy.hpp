@@ -1,5 +1,6 @@
 #pragma once
 // Copies between device Views and flat host vectors (row-major), for output and checkpoints.
+#include <array>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,29 @@ View view_from_host(const std::string& label,
       else
         mirror(i, c) = values[std::size_t(i) * columns + c];
     }
+  Kokkos::deep_copy(view, mirror);
+  return view;
+}
+
+// A new device View named `label` holding `values`, converted element by element.
+template <class T, class Host>
+DeviceView<T*> upload(const std::string& label, const std::vector<Host>& values) {
+  DeviceView<T*> view(label, values.size());
+  auto mirror = Kokkos::create_mirror_view(view);
+  for (std::size_t k = 0; k < values.size(); ++k)
+    mirror(k) = values[k];
+  Kokkos::deep_copy(view, mirror);
+  return view;
+}
+
+// The same for rows of N columns.
+template <class View, class Host, std::size_t N>
+View upload_rows(const std::string& label, const std::vector<std::array<Host, N>>& rows) {
+  View view(label, rows.size());
+  auto mirror = Kokkos::create_mirror_view(view);
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    for (std::size_t c = 0; c < N; ++c)
+      mirror(k, c) = rows[k][c];
   Kokkos::deep_copy(view, mirror);
   return view;
 }

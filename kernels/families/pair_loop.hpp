@@ -131,9 +131,8 @@ template <class F, bool Rolling>
 void compute_family_wall_contacts(const ContactContext& c, const RowSet& rows) {
   if (rows.count == 0)
     return;
-  WallContactList list = c.wall_contacts;
   compute_wall_contacts<Rolling>(
-      F::wall_label, c.particles, c.walls, list, c.coefficients, c.dt, rows.count, rows,
+      F::wall_label, c.particles, c.walls, c.wall_contacts, c.coefficients, c.dt, rows.count, rows,
       F::wall_contact(c.template table<F>(), c.shape_families, c.walls.elements, c.particles));
 }
 

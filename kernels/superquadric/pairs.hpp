@@ -78,9 +78,9 @@ struct SeparationCertificates {
 // and survivors are sized once per list build.
 inline PairsToEvaluate superquadric_pairs_in_reach(const ParticleViews& p,
                                                    const SuperquadricFamily::Table& table,
-                                                   const ShapeFamilies& shapes, PairList& list,
-                                                   PairTypeRows& type_rows, bool use_certificates,
-                                                   bool compact) {
+                                                   const ShapeFamilies& shapes,
+                                                   const PairList& list, PairTypeRows& type_rows,
+                                                   bool use_certificates, bool compact) {
   const RowSet rows = type_rows.rows;
   const int candidates = rows.count;
   if (int(type_rows.passes.extent(0)) != candidates) {
@@ -207,13 +207,11 @@ template <> struct NarrowPhase<SuperquadricFamily, SuperquadricFamily> : Superqu
   static constexpr const char* label = "kdem::superquadric_pair_forces";
   static constexpr bool tallied = true;
   static constexpr int max_contacts = 1;
-  PairList list;
 
-  explicit NarrowPhase(const ContactContext& c) : SuperquadricPairState(c), list(c.pairs) {}
+  explicit NarrowPhase(const ContactContext& c) : SuperquadricPairState(c) {}
 
-  PairsToEvaluate select(const ContactContext&, PairTypeRows& type_rows) const {
-    PairList pairs = list;
-    return superquadric_pairs_in_reach(p, table, shapes, pairs, type_rows,
+  PairsToEvaluate select(const ContactContext& c, PairTypeRows& type_rows) const {
+    return superquadric_pairs_in_reach(p, table, shapes, c.pairs, type_rows,
                                        table.settings.separation_certificates,
                                        table.settings.compact_candidates);
   }
