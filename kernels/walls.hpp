@@ -3,6 +3,7 @@
 // stored once in its reference frame; a particle centre is taken into that frame, queried, and
 // the contact is taken back to the world frame.
 #include "../shapes/wall_geometry.hpp"
+#include "binning.hpp"
 #include "contact_law.hpp"
 #include "contact_slots.hpp"
 #include "particles.hpp"
@@ -488,20 +489,16 @@ KOKKOS_INLINE_FUNCTION void store_wall_contacts(const WallSlots& slots, int k,
                                                 const CoefficientTable& table, double dt) {
   const int first = slots.slots.first(k), capacity = slots.slots.end(k) - first;
   const int kept = capacity < K ? capacity : K;
-  int last_feature[K];
-  ContactHistory last_history[K];
-  for (int c = 0; c < kept; ++c) {
-    last_feature[c] = K == 1 ? 0 : slots.feature(first + c);
-    last_history[c] = slots.history_of<RollingResistance>(first + c);
-  }
+  const auto previous = read_previous_slots<K, int, ContactHistory>(
+      first, kept, [&](int s, int& feature, ContactHistory& history) {
+        feature = K == 1 ? 0 : slots.feature(s);
+        history = slots.history_of<RollingResistance>(s);
+      });
   const int n = found.count < kept ? found.count : kept;
   Vec3 force, torque;
   for (int c = 0; c < n; ++c) {
     const WallContactGeometry& contact = found.contact[c];
-    ContactHistory history{};
-    for (int last = 0; last < kept; ++last)
-      if (last_feature[last] == contact.feature)
-        history = last_history[last];
+    ContactHistory history = previous.matching(contact.feature);
     Vec3 contact_torque;
     const ContactOutput out = wall_contact_law<RollingResistance>(p, i, wall, contact, table, dt,
                                                                   history, contact_torque);

@@ -9,6 +9,7 @@
 // (Podlozhnyuk et al., Comput. Part. Mech. 4 (2017) 101). The zero set is unchanged; the factor
 // keeps |F| of order one a few semi-axes away from blocky shapes, where |x/a|^n is large.
 // Integer exponents (the common n = 2, 4, 8, ...) use repeated multiplication instead of pow.
+#include "implicit_surface.hpp"
 #include "mat3.hpp"
 
 namespace kdem {
@@ -68,13 +69,6 @@ KOKKOS_INLINE_FUNCTION double sign_of(double x) {
   return x > 0 ? 1.0 : (x < 0 ? -1.0 : 0.0);
 }
 
-// Value, gradient and (optionally) Hessian of the conditioned shape function at one point.
-struct ShapeFunction {
-  double value = 0;
-  Vec3 gradient;
-  Mat3 hessian;
-};
-
 // Below this, S = |x/a|^n2 + |y/b|^n2 counts as zero (the body's z axis): the terms with negative
 // powers of S are multiplied by powers of |x/a|, |y/b| that vanish faster, and their limit is 0.
 constexpr double superquadric_axis_threshold = 1e-100;
@@ -119,6 +113,57 @@ KOKKOS_INLINE_FUNCTION ShapeFunction superquadric_local(const SuperquadricShape&
   return f;
 }
 
+// --- Support point ------------------------------------------------------------------------------
+
+// The point (p, q) >= 0 of the power circle p^n + q^n = 1 that maximises A p + B q, A, B >= 0,
+// and that maximum (A^m + B^m)^(1/m), m = n / (n - 1) (Hoelder's equality case):
+//   p = (A / reach)^(1 / (n - 1)),  q = (B / reach)^(1 / (n - 1)).
+struct PowerCircleSupport {
+  double first = 0, second = 0;
+  double reach = 0;
+};
+
+KOKKOS_INLINE_FUNCTION PowerCircleSupport power_circle_support(double a_weight, double b_weight,
+                                                               double n) {
+  PowerCircleSupport support;
+  const double largest = math::max(a_weight, b_weight);
+  if (!(largest > 0))
+    return support;
+  const double ra = a_weight / largest, rb = b_weight / largest; // the larger is 1: no overflow
+  if (n == 2.0) {
+    const double length = math::sqrt(ra * ra + rb * rb);
+    support.first = ra / length;
+    support.second = rb / length;
+    support.reach = largest * length;
+    return support;
+  }
+  const double dual = n / (n - 1.0);
+  const double scaled_reach = math::pow(math::pow(ra, dual) + math::pow(rb, dual), 1.0 / dual);
+  const double exponent = 1.0 / (n - 1.0);
+  support.first = math::pow(ra / scaled_reach, exponent);
+  support.second = math::pow(rb / scaled_reach, exponent);
+  support.reach = largest * scaled_reach;
+  return support;
+}
+
+// The body-frame surface point whose outward normal is parallel to `direction` (any length),
+// i.e. the point maximising direction . x over the particle (book Eqs. 2.11, 2.12; Podlozhnyuk et
+// al. 2017). Written as two nested 2-D problems: with r = (|x/a|^n2 + |y/b|^n2)^(1/n2) the surface
+// is r^n1 + |z/c|^n1 = 1, so the xy power circle is solved for (a|nx|, b|ny|) and its reach, with
+// c|nz|, gives the profile. This is Eq. 2.11 with the roles of x and y symmetric: nx = 0
+// (Eq. 2.12), |nx| < |ny| and directions along the axes need no separate branch. A zero direction
+// gives the centre.
+KOKKOS_INLINE_FUNCTION Vec3 superquadric_support_point(const SuperquadricShape& s, Vec3 direction) {
+  const PowerCircleSupport section =
+      power_circle_support(s.a * math::fabs(direction.x), s.b * math::fabs(direction.y), s.n2);
+  const PowerCircleSupport profile =
+      power_circle_support(section.reach, s.c * math::fabs(direction.z), s.n1);
+  const double radial = profile.first;
+  return {sign_of(direction.x) * s.a * radial * section.first,
+          sign_of(direction.y) * s.b * radial * section.second,
+          sign_of(direction.z) * s.c * profile.second};
+}
+
 // A superquadric placed in the world: centre and body-to-world rotation.
 struct PosedSuperquadric {
   SuperquadricShape shape;
@@ -139,6 +184,12 @@ struct PosedSuperquadric {
   }
   KOKKOS_INLINE_FUNCTION double equivalent_radius() const {
     return math::cbrt(shape.a * shape.b * shape.c);
+  }
+  KOKKOS_INLINE_FUNCTION Vec3 support_local(Vec3 direction_local) const {
+    return superquadric_support_point(shape, direction_local);
+  }
+  KOKKOS_INLINE_FUNCTION BodyBox local_box() const {
+    return BodyBox{Vec3{-shape.a, -shape.b, -shape.c}, Vec3{shape.a, shape.b, shape.c}};
   }
   KOKKOS_INLINE_FUNCTION double value(Vec3 x) const {
     return superquadric_local<false>(shape, to_local(x)).value;
@@ -180,34 +231,6 @@ struct PosedSuperquadric {
 KOKKOS_INLINE_FUNCTION PosedSuperquadric pose_superquadric(const SuperquadricShape& shape,
                                                            Vec3 centre, Quat orientation) {
   return PosedSuperquadric{shape, centre, rotation_matrix(orientation)};
-}
-
-// Mean curvature of the level set through a point, from the gradient g and Hessian H of any
-// function with that level set (Goldman, CAGD 22 (2005) 632, Eq. 4.1):
-//   kappa_H = |g^T H g - |g|^2 tr H| / (2 |g|^3).
-// Invariant under scaling the function, so the conditioning factor does not matter.
-KOKKOS_INLINE_FUNCTION double mean_curvature(const ShapeFunction& f) {
-  const double g2 = norm2(f.gradient);
-  if (!(g2 > 0))
-    return 0;
-  const double gHg = dot(f.gradient, f.hessian * f.gradient);
-  return math::fabs(gHg - g2 * trace(f.hessian)) / (2.0 * g2 * math::sqrt(g2));
-}
-
-// Gaussian curvature of the level set (Goldman 2005, Eq. 4.2): g^T adj(H) g / |g|^4.
-KOKKOS_INLINE_FUNCTION double gaussian_curvature(const ShapeFunction& f) {
-  const double g2 = norm2(f.gradient);
-  if (!(g2 > 0))
-    return 0;
-  const Mat3& h = f.hessian;
-  Mat3 adj; // adjugate (transposed cofactor matrix) of the symmetric Hessian
-  adj.m[0][0] = h.m[1][1] * h.m[2][2] - h.m[1][2] * h.m[2][1];
-  adj.m[1][1] = h.m[0][0] * h.m[2][2] - h.m[0][2] * h.m[2][0];
-  adj.m[2][2] = h.m[0][0] * h.m[1][1] - h.m[0][1] * h.m[1][0];
-  adj.m[0][1] = adj.m[1][0] = h.m[0][2] * h.m[2][1] - h.m[0][1] * h.m[2][2];
-  adj.m[0][2] = adj.m[2][0] = h.m[0][1] * h.m[1][2] - h.m[0][2] * h.m[1][1];
-  adj.m[1][2] = adj.m[2][1] = h.m[0][2] * h.m[1][0] - h.m[0][0] * h.m[1][2];
-  return dot(f.gradient, adj * f.gradient) / (g2 * g2);
 }
 
 } // namespace kdem

@@ -1,7 +1,8 @@
 // The implicit-surface numerics are generic: a second surface type, a sphere written directly as
 // F = (|x - c|^2 / r^2 - 1) / 2 (not as a superquadric), goes through the same midway-point
 // solve, surface-point search, curvature and separation bound, which must give the closed forms
-// of two spheres.
+// of two spheres, and through the wall numerics (plane, triangle face, edge and vertex, inside of
+// a cylinder), which must give those of a sphere against each.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,6 +10,7 @@
 
 #include "geometry_test_support.hpp"
 #include "shapes/superquadric_contact.hpp"
+#include "shapes/surface_wall.hpp"
 
 namespace kdem {
 namespace {
@@ -42,9 +44,18 @@ struct ImplicitSphere {
   KOKKOS_INLINE_FUNCTION double smallest_length() const { return radius; }
   KOKKOS_INLINE_FUNCTION double reach() const { return radius; }
   KOKKOS_INLINE_FUNCTION double equivalent_radius() const { return radius; }
+  KOKKOS_INLINE_FUNCTION Vec3 support_local(Vec3 direction) const {
+    const double length = norm(direction);
+    return length > 0 ? (radius / length) * direction : Vec3{};
+  }
+  KOKKOS_INLINE_FUNCTION BodyBox local_box() const {
+    return BodyBox{Vec3{-radius, -radius, -radius}, Vec3{radius, radius, radius}};
+  }
 };
 
 static_assert(is_implicit_surface<ImplicitSphere>::value, "the test sphere models the concept");
+static_assert(is_wall_surface<ImplicitSphere>::value, "and the wall numerics' part of it");
+static_assert(is_wall_surface<PosedSuperquadric>::value, "as a superquadric does");
 
 ImplicitSphere make(Vec3 centre, double radius) {
   ImplicitSphere s;
@@ -123,6 +134,90 @@ TEST(ImplicitSurface, TheSeparationBoundOfTwoSpheresIsTheirGap) {
     ASSERT_TRUE(solved[k].converged) << k;
     EXPECT_LE(solved[k].separation, gap) << k;
     EXPECT_GT(solved[k].separation, 0.49 * gap) << k;
+  }
+}
+
+// A sphere against one wall feature: a plane (z = 0, normal +z), the triangle (0,0,0), (1,0,0),
+// (0,1,0) lying in z = 0, or the inside of a cylinder about the z axis of radius 1.
+struct WallCase {
+  enum Kind { plane, triangle, cylinder } kind = plane;
+  ImplicitSphere sphere;
+};
+
+struct SolveWall {
+  KOKKOS_INLINE_FUNCTION SurfaceWallContact operator()(const WallCase& c) const {
+    const Vec3 up{0, 0, 1}, origin{0, 0, 0};
+    switch (c.kind) {
+    case WallCase::plane:
+      return surface_plane_contact(c.sphere, origin, up);
+    case WallCase::triangle: {
+      const Vec3 a{0, 0, 0}, b{1, 0, 0}, d{0, 1, 0};
+      return surface_triangle_contact(c.sphere, a, b, d, isolated_triangle(a, b, d));
+    }
+    default:
+      return surface_inside_cylinder_contact(c.sphere, origin, up, 1.0);
+    }
+  }
+};
+
+// The closest point x of the wall feature to the sphere's centre q, as the contact must find it:
+// overlap r - |q - x|, normal (q - x) / |q - x| (cylinder: |q_perp| + r - 1 and -q_perp /
+// |q_perp|), curvature 1 / r, and the feature (0 face, 1 edge ab, 3 edge ca, 4 vertex a,
+// 5 vertex b).
+struct ExpectedWall {
+  Vec3 closest;
+  int feature = 0;
+};
+
+// Root-finding and support points resolve positions to ~1e-15 of the size; the golden-section
+// search of the cylinder resolves the angle to 1e-9, which moves the reach by ~1e-18.
+TEST(ImplicitSurface, TheWallNumericsOfASphereGiveItsClosedForms) {
+  const double r = 0.3;
+  std::vector<WallCase> cases;
+  std::vector<ExpectedWall> expected;
+  auto add = [&](WallCase::Kind kind, Vec3 centre, Vec3 closest, int feature) {
+    cases.push_back({kind, make(centre, r)});
+    expected.push_back({closest, feature});
+  };
+  add(WallCase::plane, {0.2, -5, 0.25}, {0.2, -5, 0}, 0);
+  add(WallCase::plane, {0, 0, 0.01}, {0, 0, 0}, 0);
+  add(WallCase::triangle, {0.2, 0.3, 0.1}, {0.2, 0.3, 0}, 0);   // above the face
+  add(WallCase::triangle, {0.5, -0.1, 0.15}, {0.5, 0, 0}, 1);   // beside edge ab
+  add(WallCase::triangle, {-0.12, 0.4, -0.05}, {0, 0.4, 0}, 3); // beside edge ca, below
+  add(WallCase::triangle, {-0.1, -0.15, 0.1}, {0, 0, 0}, 4);    // beyond vertex a
+  add(WallCase::triangle, {1.1, -0.1, 0.05}, {1, 0, 0}, 5);     // beyond vertex b
+  add(WallCase::cylinder, {0.7, 0.3, 3}, {}, 0);
+  add(WallCase::cylinder, {-0.05, -0.75, -1}, {}, 0);
+  const std::vector<SurfaceWallContact> found =
+      run_on_device<SurfaceWallContact>(cases, SolveWall{});
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    const Vec3 q = cases[k].sphere.centre;
+    const Vec3 across{q.x, q.y, 0}; // cylinder: from the axis to the centre
+    const bool inside_cylinder = cases[k].kind == WallCase::cylinder;
+    const Vec3 away = inside_cylinder ? -1.0 * across : q - expected[k].closest;
+    const double overlap = inside_cylinder ? norm(across) + r - 1.0 : r - norm(away);
+    const Vec3 normal = (1.0 / norm(away)) * away;
+    const ContactGeometry& g = found[k].geometry;
+    ASSERT_TRUE(g.touching) << k;
+    EXPECT_EQ(found[k].feature, expected[k].feature) << k;
+    EXPECT_NEAR(g.overlap, overlap, 1e-13) << k;
+    EXPECT_NEAR(dot(g.normal, normal), 1.0, 1e-13) << k;
+    EXPECT_NEAR(found[k].curvature, 1.0 / r, 1e-10) << k;
+  }
+}
+
+// Just apart from each feature: no contact, and never a NaN deepest point.
+TEST(ImplicitSurface, ASphereJustApartFromAWallFeatureHasNoContact) {
+  const double r = 0.3, gap = 1e-9;
+  std::vector<WallCase> cases{{WallCase::plane, make({0.1, 0.1, r + gap}, r)},
+                              {WallCase::triangle, make({0.2, 0.2, -(r + gap)}, r)},
+                              {WallCase::triangle, make({0.5, -(r + gap), 0}, r)},
+                              {WallCase::cylinder, make({1.0 - r - gap, 0, 0.5}, r)}};
+  const std::vector<SurfaceWallContact> found =
+      run_on_device<SurfaceWallContact>(cases, SolveWall{});
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    EXPECT_FALSE(found[k].geometry.touching) << k;
+    EXPECT_TRUE(std::isfinite(norm(found[k].deepest_point))) << k;
   }
 }
 

@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "../../shapes/mat3.hpp"
+#include "../../shapes/superquadric.hpp"
 #include "../../shapes/superquadric_properties.hpp"
-#include "../../shapes/superquadric_wall.hpp"
 #include "scene_builders.hpp"
 
 namespace kdem::testing {

@@ -3,6 +3,7 @@
 // mesh. The functions under test run in parallel_for kernels on the engine's backend.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -13,12 +14,17 @@
 #include <vector>
 
 #include "kernels/types.hpp"
-#include "shapes/superquadric_wall.hpp"
+#include "shapes/superquadric.hpp"
+#include "shapes/surface_wall.hpp"
 
 #include "geometry_test_support.hpp"
 
 namespace kdem {
 namespace {
+
+double largest_semi_axis(const SuperquadricShape& s) {
+  return std::max(s.a, std::max(s.b, s.c));
+}
 
 // --- Host helpers
 // ---------------------------------------------------------------------------------
@@ -31,7 +37,7 @@ bool finite(Vec3 v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
-bool finite(const SuperquadricWallContact& c) {
+bool finite(const SurfaceWallContact& c) {
   return std::isfinite(c.geometry.overlap) && finite(c.geometry.normal) &&
          finite(c.geometry.point) && std::isfinite(c.curvature) && finite(c.deepest_point);
 }
@@ -162,8 +168,8 @@ struct PlaneCase {
 };
 
 struct PlaneContactOfCase {
-  KOKKOS_INLINE_FUNCTION SuperquadricWallContact operator()(const PlaneCase& c) const {
-    return superquadric_plane_contact(c.particle, c.origin, c.normal);
+  KOKKOS_INLINE_FUNCTION SurfaceWallContact operator()(const PlaneCase& c) const {
+    return surface_plane_contact(c.particle, c.origin, c.normal);
   }
 };
 
@@ -229,10 +235,10 @@ std::vector<PlaneCase> plane_cases() {
 
 TEST(SuperquadricWall, PlaneOverlapMatchesBruteForce) {
   const std::vector<PlaneCase> cases = plane_cases();
-  const auto contacts = run_on_device<SuperquadricWallContact>(cases, PlaneContactOfCase{});
+  const auto contacts = run_on_device<SurfaceWallContact>(cases, PlaneContactOfCase{});
   double worst_low = 0, worst_high = 0, worst_surface = 0;
   for (std::size_t i = 0; i < cases.size(); ++i) {
-    const SuperquadricWallContact& c = contacts[i];
+    const SurfaceWallContact& c = contacts[i];
     const PosedSuperquadric& p = cases[i].particle;
     ASSERT_TRUE(c.geometry.touching) << i;
     const double size = largest_semi_axis(p.shape);
@@ -275,7 +281,7 @@ TEST(SuperquadricWall, FlatFaceOnAPlaneTouchesAtTheFaceCentre) {
     const double height = 0.999e-3; // both reach 1e-3 below the centre: 1 um overlap
     cases.push_back({pose(shape, height * normal, orientation), Vec3{}, normal});
   }
-  const auto contacts = run_on_device<SuperquadricWallContact>(cases, PlaneContactOfCase{});
+  const auto contacts = run_on_device<SurfaceWallContact>(cases, PlaneContactOfCase{});
   double worst = 0;
   for (std::size_t k = 0; k < cases.size(); ++k) {
     ASSERT_TRUE(contacts[k].geometry.touching) << k;
@@ -298,7 +304,7 @@ TEST(SuperquadricWall, PlaneCurvatureOfASphereIsItsInverseRadius) {
     const Vec3 normal = random_unit(rng);
     cases.push_back({pose(sphere, 0.2 * normal, random_rotation(rng)), Vec3{0, 0, 0}, normal});
   }
-  const auto contacts = run_on_device<SuperquadricWallContact>(cases, PlaneContactOfCase{});
+  const auto contacts = run_on_device<SurfaceWallContact>(cases, PlaneContactOfCase{});
   for (const auto& c : contacts) {
     EXPECT_NEAR(c.geometry.overlap, 0.05, 1e-15); // rounding of a 0.25 m sphere
     EXPECT_NEAR(c.curvature, 4.0, 1e-13);         // mean curvature 1/R, ulps of 1/R
@@ -314,7 +320,7 @@ struct TriangleCase {
 };
 
 struct FaceAndPlane {
-  SuperquadricWallContact triangle, plane;
+  SurfaceWallContact triangle, plane;
 };
 
 struct FaceAndPlaneOfCase {
@@ -322,8 +328,8 @@ struct FaceAndPlaneOfCase {
     const TriangleNeighbourhood alone = isolated_triangle(t.a, t.b, t.c);
     const Vec3 n = alone.normal;
     const Vec3 towards = dot(t.particle.centre - t.a, n) >= 0 ? n : -n;
-    return {superquadric_triangle_contact(t.particle, t.a, t.b, t.c, alone),
-            superquadric_plane_contact(t.particle, t.a, towards)};
+    return {surface_triangle_contact(t.particle, t.a, t.b, t.c, alone),
+            surface_plane_contact(t.particle, t.a, towards)};
   }
 };
 
@@ -345,7 +351,7 @@ TEST(SuperquadricWall, FaceContactEqualsThePlaneContact) {
   const auto results = run_on_device<FaceAndPlane>(cases, FaceAndPlaneOfCase{});
   double worst = 0;
   for (std::size_t i = 0; i < cases.size(); ++i) {
-    const SuperquadricWallContact &t = results[i].triangle, &p = results[i].plane;
+    const SurfaceWallContact &t = results[i].triangle, &p = results[i].plane;
     ASSERT_EQ(t.feature, 0) << i;
     ASSERT_TRUE(t.geometry.touching && p.geometry.touching) << i;
     const double size = largest_semi_axis(cases[i].particle.shape);
@@ -365,11 +371,11 @@ struct EdgeCase {
 };
 
 struct EdgeContactOfCase {
-  KOKKOS_INLINE_FUNCTION SuperquadricWallContact operator()(const EdgeCase& e) const {
+  KOKKOS_INLINE_FUNCTION SurfaceWallContact operator()(const EdgeCase& e) const {
     const Vec3 free_normal{0, 0, 1};
     if (e.vertex >= 0)
-      return superquadric_vertex_contact(e.particle, e.u, free_normal, 4);
-    return superquadric_edge_contact(e.particle, e.u, e.v, free_normal, 1);
+      return surface_vertex_contact(e.particle, e.u, free_normal, 4);
+    return surface_edge_contact(e.particle, e.u, e.v, free_normal, 1);
   }
 };
 
@@ -428,13 +434,13 @@ TEST(SuperquadricWall, EdgeAndVertexContactsMatchBruteForce) {
     cases.push_back(
         {p, through - before * d, through + uniform(rng, 2, 6) * d, kind == 2 ? 0 : -1});
   }
-  const auto contacts = run_on_device<SuperquadricWallContact>(cases, EdgeContactOfCase{});
+  const auto contacts = run_on_device<SurfaceWallContact>(cases, EdgeContactOfCase{});
   double worst_minimum = 0, worst_depth = 0, worst_surface = 0;
   int edges = 0, vertices = 0;
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const EdgeCase& e = cases[i];
     const PosedSuperquadric& p = e.particle;
-    const SuperquadricWallContact& c = contacts[i];
+    const SurfaceWallContact& c = contacts[i];
     ASSERT_TRUE(finite(c)) << i;
     const double size = largest_semi_axis(p.shape);
     // The wall point: the contact point moved back by half the overlap along the normal.
@@ -557,8 +563,8 @@ DeviceMesh upload(const HostMesh& mesh, bool with_rings) {
 struct MeshResult {
   int claims = 0, touching = 0;
   int triangle = -1, feature = -1; // of the last claim
-  SuperquadricWallContact contact; // of the last claim
-  SuperquadricWallContact plane;   // the plane of triangle 0, towards the particle
+  SurfaceWallContact contact;      // of the last claim
+  SurfaceWallContact plane;        // the plane of triangle 0, towards the particle
 };
 
 struct MeshContactsOfParticle {
@@ -566,9 +572,9 @@ struct MeshContactsOfParticle {
   KOKKOS_INLINE_FUNCTION MeshResult operator()(const PosedSuperquadric& p) const {
     MeshResult r;
     for (int t = 0; t < mesh.count; ++t) {
-      const SuperquadricWallContact c =
-          superquadric_triangle_contact(p, mesh.corners(3 * t), mesh.corners(3 * t + 1),
-                                        mesh.corners(3 * t + 2), mesh.neighbourhood(t));
+      const SurfaceWallContact c =
+          surface_triangle_contact(p, mesh.corners(3 * t), mesh.corners(3 * t + 1),
+                                   mesh.corners(3 * t + 2), mesh.neighbourhood(t));
       if (c.feature < 0)
         continue;
       ++r.claims;
@@ -576,7 +582,7 @@ struct MeshContactsOfParticle {
       r.triangle = t, r.feature = c.feature, r.contact = c;
     }
     const Vec3 n = mesh.neighbourhood(0).normal, origin = mesh.corners(0);
-    r.plane = superquadric_plane_contact(p, origin, dot(p.centre - origin, n) >= 0 ? n : -n);
+    r.plane = surface_plane_contact(p, origin, dot(p.centre - origin, n) >= 0 ? n : -n);
     return r;
   }
 };
@@ -870,8 +876,8 @@ struct CylinderCase {
 };
 
 struct CylinderContactOfCase {
-  KOKKOS_INLINE_FUNCTION SuperquadricWallContact operator()(const CylinderCase& c) const {
-    return superquadric_inside_cylinder_contact(c.particle, c.axis_point, c.axis, c.radius);
+  KOKKOS_INLINE_FUNCTION SurfaceWallContact operator()(const CylinderCase& c) const {
+    return surface_inside_cylinder_contact(c.particle, c.axis_point, c.axis, c.radius);
   }
 };
 
@@ -912,10 +918,10 @@ TEST(SuperquadricWall, InsideCylinderMatchesBruteForce) {
   cases.push_back(
       {pose(make_superquadric(0.3, 0.1, 0.1, 4, 4), Vec3{0, 0, 0}, axis_angle({0, 0, 1}, 0.3)),
        Vec3{0, 0, 0}, Vec3{0, 0, 1}, 0.2});
-  const auto contacts = run_on_device<SuperquadricWallContact>(cases, CylinderContactOfCase{});
+  const auto contacts = run_on_device<SurfaceWallContact>(cases, CylinderContactOfCase{});
   double worst = 0;
   for (std::size_t i = 0; i < cases.size(); ++i) {
-    const SuperquadricWallContact& c = contacts[i];
+    const SurfaceWallContact& c = contacts[i];
     ASSERT_TRUE(finite(c)) << i;
     ASSERT_TRUE(c.geometry.touching) << i;
     const double size = largest_semi_axis(cases[i].particle.shape);
@@ -943,24 +949,24 @@ struct DegenerateCase {
 };
 
 struct DegenerateOfCase {
-  KOKKOS_INLINE_FUNCTION SuperquadricWallContact operator()(const DegenerateCase& d) const {
+  KOKKOS_INLINE_FUNCTION SurfaceWallContact operator()(const DegenerateCase& d) const {
     const PosedSuperquadric& p = d.particle;
     switch (d.kind) {
     case 0: {
-      SuperquadricWallContact c;
+      SurfaceWallContact c;
       c.deepest_point = superquadric_support_point(p.shape, d.a);
       return c;
     }
     case 1:
-      return superquadric_plane_contact(p, d.a, d.b);
+      return surface_plane_contact(p, d.a, d.b);
     case 2:
-      return superquadric_triangle_contact(p, d.a, d.b, d.c, isolated_triangle(d.a, d.b, d.c));
+      return surface_triangle_contact(p, d.a, d.b, d.c, isolated_triangle(d.a, d.b, d.c));
     case 3:
-      return superquadric_edge_contact(p, d.a, d.b, Vec3{0, 0, 1}, 1);
+      return surface_edge_contact(p, d.a, d.b, Vec3{0, 0, 1}, 1);
     case 4:
-      return superquadric_vertex_contact(p, d.a, Vec3{0, 0, 1}, 4);
+      return surface_vertex_contact(p, d.a, Vec3{0, 0, 1}, 4);
     default:
-      return superquadric_inside_cylinder_contact(p, d.a, d.b, d.c.x);
+      return surface_inside_cylinder_contact(p, d.a, d.b, d.c.x);
     }
   }
 };
@@ -987,7 +993,7 @@ TEST(SuperquadricWall, DegenerateInputGivesNoNaN) {
     cases.push_back({at_origin, {0, 0, 0}, up, {0.01, 0, 0}, 5}); // centred in a thin tube
     cases.push_back({at_origin, {0, 0, 0}, up, {10, 0, 0}, 5});   // far from a wide drum
   }
-  const auto contacts = run_on_device<SuperquadricWallContact>(cases, DegenerateOfCase{});
+  const auto contacts = run_on_device<SurfaceWallContact>(cases, DegenerateOfCase{});
   for (std::size_t i = 0; i < cases.size(); ++i)
     EXPECT_TRUE(finite(contacts[i])) << "case " << i << " kind " << cases[i].kind;
 }
