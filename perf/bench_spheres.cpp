@@ -47,6 +47,7 @@
 #include "src/engine.hpp"
 #include "src/kernel_timer.hpp"
 #include "src/scene.hpp"
+#include "src/superquadric_scene.hpp"
 
 namespace {
 
@@ -204,12 +205,8 @@ kdem::SceneConfig base_scene(const BenchParameters& p, const BenchShape& shape, 
                              const double hi[3]) {
   kdem::SceneConfig scene;
   if (!shape.is_sphere()) {
-    kdem::ShapeConfig config;
-    config.name = shape.name;
-    config.half_axes = half_axes_of(shape, p.mean_radius);
-    config.n1 = shape.n1;
-    config.n2 = shape.n2;
-    scene.shapes = {config};
+    scene.shapes = {kdem::superquadric_shape_config(shape.name, half_axes_of(shape, p.mean_radius),
+                                                    shape.n1, shape.n2)};
   }
   scene.source_file = "bench_spheres";
   scene.gravity = {0, 0, -p.gravity};

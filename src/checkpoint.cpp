@@ -56,16 +56,16 @@ void load_view_of_format(const Hdf5Reader& in, std::int64_t format, const std::s
     Kokkos::deep_copy(view, -1);
 }
 
-// For readers of the file (pictures, analyses): shape id k > 0 is row k - 1 of these. Not read
-// back: the scene defines the templates.
+// For readers of the file (pictures, analyses): shapes/<field> for each output field of the
+// templates (a superquadric's half_axes, blockiness), shape id k > 0 is row k - 1, NaN where
+// a template has no such field. Not read back: the scene defines the templates.
 void write_shape_templates(Hdf5Writer& out, const std::vector<ShapeTemplate>& templates) {
-  std::vector<double> half_axes, blockiness;
-  for (const ShapeTemplate& t : templates) {
-    half_axes.insert(half_axes.end(), t.output_half_axes.begin(), t.output_half_axes.end());
-    blockiness.insert(blockiness.end(), t.output_blockiness.begin(), t.output_blockiness.end());
-  }
-  out.write("shapes/half_axes", half_axes, {hsize_t(templates.size()), 3});
-  out.write("shapes/blockiness", blockiness, {hsize_t(templates.size()), 2});
+  std::vector<int> rows(templates.size());
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    rows[k] = int(k);
+  for (const ShapeField& field : output_fields_of(templates, rows))
+    out.write("shapes/" + field.name, field.values,
+              {hsize_t(templates.size()), hsize_t(field.components)});
 }
 
 // For readers of the file: what the particles' `source` and `tag` index. Not read back: the

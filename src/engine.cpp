@@ -9,6 +9,7 @@
 #include "../kernels/force_sum.hpp"
 #include "../kernels/integrate.hpp"
 #include "../kernels/pair_forces.hpp"
+#include "body_surface.hpp"
 #include "engine_state.hpp"
 #include "generate.hpp"
 #include "host_copy.hpp"
@@ -629,19 +630,16 @@ ParticleSnapshot Engine::State::make_snapshot() const {
   return snap;
 }
 
+// Output fields per particle (NaN for spheres and shapes without the field); a surface per
+// shape id, the unit sphere for shape 0.
 void Engine::State::add_shapes_to_snapshot(ParticleSnapshot& snap) const {
-  snap.half_axes.resize(3 * snap.size());
-  snap.blockiness.resize(2 * snap.size());
-  for (std::size_t i = 0; i < snap.size(); ++i) {
-    ShapeTemplate sphere;
-    sphere.output_half_axes = {snap.radius[i], snap.radius[i], snap.radius[i]};
-    const ShapeTemplate& t =
-        snap.shape[i] == sphere_shape ? sphere : shape_templates[snap.shape[i] - 1];
-    for (int c = 0; c < 3; ++c)
-      snap.half_axes[3 * i + c] = t.output_half_axes[c];
-    for (int c = 0; c < 2; ++c)
-      snap.blockiness[2 * i + c] = t.output_blockiness[c];
-  }
+  std::vector<int> template_of_particle(snap.size());
+  for (std::size_t i = 0; i < snap.size(); ++i)
+    template_of_particle[i] = snap.shape[i] - 1;
+  snap.shape_fields = output_fields_of(shape_templates, template_of_particle);
+  snap.shape_surfaces = {unit_sphere_surface(output_surface_resolution)};
+  for (const ShapeTemplate& t : shape_templates)
+    snap.shape_surfaces.push_back(t.surface);
 }
 
 std::vector<std::string> Engine::State::source_names() const {

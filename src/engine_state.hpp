@@ -26,11 +26,27 @@ struct ShapeTemplate {
   double volume = 0;            // m^3
   Vec3 inertia_per_density;     // m^5, principal, body frame
   double equivalent_radius = 0; // m, of the sphere of equal volume
-  // How snapshots draw it: semi-axes and exponents of a superquadric (the output format of
-  // frames; a sphere is a = b = c = r, n1 = n2 = 2).
-  std::array<double, 3> output_half_axes{};
-  std::array<double, 2> output_blockiness{2, 2};
+  // How output describes and draws it: values its family names it by (frames per particle,
+  // checkpoints per template) and its surface in the body frame.
+  std::vector<ShapeField> output_fields;
+  BodySurface surface;
 };
+
+// What a family's setup hook (F::setup_templates, in src/<family>_setup.cpp) gets: the scene's
+// shapes of the family in scene order and its settings (null: none in the scene, defaults).
+// It returns one ShapeTemplate per shape, in that order (the engine sets family and row), and
+// fills the family's device table.
+struct FamilyShapes {
+  std::vector<const ShapeConfig*> shapes;
+  const FamilySettings* settings = nullptr;
+  std::string scene_file; // for messages
+};
+
+// The output fields of `templates`, one row per item: item k takes the values of template
+// template_of_item[k], or NaN where that template has no such field or the index is negative
+// (a sphere). Fields in the order the templates first name them.
+std::vector<ShapeField> output_fields_of(const std::vector<ShapeTemplate>& templates,
+                                         const std::vector<int>& template_of_item);
 
 struct SourceState {
   std::mt19937_64 rng;
@@ -91,7 +107,7 @@ struct Engine::State {
 
   void setup_materials();
   void setup_shapes();
-  void setup_superquadric_shapes();
+  template <class F> void setup_family_shapes(std::vector<bool>& set_up);
   void classify_families(const PairList& list);
   void setup_domain();
   void setup_walls();

@@ -1,5 +1,7 @@
 // The families of a scene: its shapes (each set up by its family), the map from shape id to
 // family and template, and the rows of each family and pair type at a list build.
+#include <algorithm>
+#include <limits>
 #include <stdexcept>
 
 #include "engine_state.hpp"
@@ -10,7 +12,18 @@ namespace kdem {
 // shapes, set up by its family. Then the device map from shape id to family and template, and
 // the shape id of each source.
 void Engine::State::setup_shapes() {
-  setup_superquadric_shapes();
+  shape_templates.assign(scene.shapes.size(), ShapeTemplate{});
+  std::vector<bool> set_up(scene.shapes.size(), false);
+  for_each_family<Families>([&](auto tag) {
+    using F = typename decltype(tag)::type;
+    if constexpr (F::shape_templates)
+      setup_family_shapes<F>(set_up);
+  });
+  for (std::size_t k = 0; k < scene.shapes.size(); ++k)
+    if (!set_up[k])
+      throw std::runtime_error(scene.source_file + ": shape '" + scene.shapes[k].name +
+                               "' is of the family '" + scene.shapes[k].family +
+                               "', which this build of the engine does not have");
   std::vector<int> template_of_shape{0};
   family_of_shape = {family_index_v<SphereFamily, Families>};
   for (const ShapeTemplate& t : shape_templates) {
@@ -33,6 +46,59 @@ void Engine::State::setup_shapes() {
     source_shape.push_back(id);
     mark_family_present(id);
   }
+}
+
+// The scene's shapes of family F get templates from F's setup hook, rows in scene order.
+template <class F> void Engine::State::setup_family_shapes(std::vector<bool>& set_up) {
+  FamilyShapes family;
+  family.scene_file = scene.source_file;
+  std::vector<std::size_t> shape_index;
+  for (std::size_t k = 0; k < scene.shapes.size(); ++k)
+    if (scene.shapes[k].family == F::name) {
+      family.shapes.push_back(&scene.shapes[k]);
+      shape_index.push_back(k);
+    }
+  const auto settings = scene.family_settings.find(F::name);
+  if (settings != scene.family_settings.end())
+    family.settings = settings->second.get();
+  std::vector<ShapeTemplate> made =
+      F::setup_templates(family, std::get<family_index_v<F, Families>>(family_tables));
+  if (made.size() != shape_index.size())
+    throw std::logic_error(std::string("the setup of the family ") + F::name + " made " +
+                           std::to_string(made.size()) + " templates for " +
+                           std::to_string(shape_index.size()) + " shapes");
+  for (std::size_t row = 0; row < made.size(); ++row) {
+    made[row].family = family_index_v<F, Families>;
+    made[row].family_template = int(row);
+    shape_templates[shape_index[row]] = std::move(made[row]);
+    set_up[shape_index[row]] = true;
+  }
+}
+
+std::vector<ShapeField> output_fields_of(const std::vector<ShapeTemplate>& templates,
+                                         const std::vector<int>& template_of_item) {
+  std::vector<ShapeField> fields;
+  for (const ShapeTemplate& t : templates)
+    for (const ShapeField& field : t.output_fields) {
+      bool known = false;
+      for (const ShapeField& f : fields)
+        known = known || f.name == field.name;
+      if (!known)
+        fields.push_back({field.name, field.components, {}});
+    }
+  const double none = std::numeric_limits<double>::quiet_NaN();
+  for (ShapeField& field : fields) {
+    field.values.assign(template_of_item.size() * field.components, none);
+    for (std::size_t k = 0; k < template_of_item.size(); ++k) {
+      if (template_of_item[k] < 0)
+        continue;
+      for (const ShapeField& own : templates[template_of_item[k]].output_fields)
+        if (own.name == field.name)
+          std::copy(own.values.begin(), own.values.end(),
+                    field.values.begin() + k * field.components);
+    }
+  }
+  return fields;
 }
 
 int shape_id_of(const SceneConfig& scene, const std::string& name) {

@@ -160,7 +160,7 @@ private:
     const ParticleSnapshot snapshot = engine.snapshot();
     write_particles_vtu(directory_ / particle_file, snapshot);
     particles_pvd_.add(engine.time(), particle_file);
-    if (!snapshot.half_axes.empty()) {
+    if (!snapshot.shape_surfaces.empty()) {
       const std::string surface_file = "frames/" + numbered("shapes", step, ".vtp");
       write_particle_surfaces_vtp(directory_ / surface_file, snapshot);
       surfaces_pvd_.add(engine.time(), surface_file);

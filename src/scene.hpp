@@ -3,6 +3,8 @@
 // Plain host data; validated by the loader, consumed by the Engine.
 #include <array>
 #include <cstdint>
+#include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -54,22 +56,27 @@ struct RegionConfig {
   double height = 0;
 };
 
-// A particle shape template other than a sphere: a superquadric (book Eq. 2.1) with semi-axes
-// a, b, c along its body x, y, z and blockiness n1 (profile along z), n2 (xy cross-section).
-struct ShapeConfig {
-  std::string name;
-  Vec3d half_axes{0, 0, 0}; // m
-  double n1 = 2, n2 = 2;
+// What a shape family reads from its entry of `shapes` (and checks), for its setup to build
+// the template from: a superquadric's semi-axes and exponents, later a clump's elements or a
+// mesh file. Each family derives its own (src/<family>_scene.hpp).
+struct FamilyShapeParameters {
+  virtual ~FamilyShapeParameters() = default;
+  // The smallest size of the body (a superquadric's smallest semi-axis), m: the default skin
+  // is sized from it.
+  virtual double smallest_size() const = 0;
 };
 
-// Controls of the superquadric narrow phase and of its contact radius.
-struct SuperquadricContactConfig {
-  double tolerance = 0;       // Newton tolerance; 0: the engine's default
-  int max_iterations = 0;     // Newton iteration cap; 0: the engine's default
-  double curvature_limit = 2; // R* from curvature is kept within [1/limit, limit] x R*_volume
-  bool separation_certificates = true; // skip pairs whose gap bound outlasts their motion
-  bool compact_candidates = true;      // scan the box tests' survivors into a dense list
-  int team_size = 0;                   // lanes per team of the narrow-phase kernels; 0: flat
+// A family's scene-wide settings (its narrow-phase controls), read from its top-level key.
+struct FamilySettings {
+  virtual ~FamilySettings() = default;
+};
+
+// A particle shape template other than a sphere, of the family named `family` (its key in the
+// shape's entry, e.g. "superquadric").
+struct ShapeConfig {
+  std::string name;
+  std::string family;
+  std::shared_ptr<const FamilyShapeParameters> parameters;
 };
 
 struct ParticleSourceConfig {
@@ -161,7 +168,9 @@ struct SceneConfig {
   std::vector<MaterialConfig> materials;
   std::vector<InteractionConfig> interactions;
   std::vector<ShapeConfig> shapes;
-  SuperquadricContactConfig superquadric_contact;
+  // Settings of each family that the scene sets, by family name; a family absent here runs
+  // with its defaults.
+  std::map<std::string, std::shared_ptr<const FamilySettings>> family_settings;
   std::vector<ParticleSourceConfig> sources;
   std::vector<WallConfig> walls;
   std::vector<OutletConfig> outlets;

@@ -1,7 +1,7 @@
 #include "scene_loader.hpp"
 
+#include "family_scene.hpp"
 #include "scene_yaml.hpp"
-#include "superquadric_scene.hpp"
 
 #include <yaml-cpp/yaml.h>
 
@@ -288,7 +288,76 @@ void read_insertion_timing(const Mapping& map, ParticleSourceConfig& source) {
     source.interval = positive(*value_found, "seconds");
 }
 
-// ---- shapes: see superquadric_scene.cpp ----------------------------------------------------
+// ---- shapes: an entry names its family by a key that its family's reader reads ----------------
+
+KeyList shape_family_names() {
+  KeyList names;
+  for (const FamilyScene& family : family_scenes())
+    names.push_back(family.name);
+  return names;
+}
+
+const FamilyScene& family_named(const std::string& name) {
+  for (const FamilyScene& family : family_scenes())
+    if (family.name == name)
+      return family;
+  throw std::logic_error("no scene reader for the shape family " + name);
+}
+
+ShapeConfig read_shape(const Value& value, UniqueNames& names) {
+  KeyList keys = shape_family_names();
+  keys.insert(keys.begin(), "name");
+  const Mapping map(value, keys);
+  ShapeConfig shape;
+  shape.name = unique_name(map.get("name"), names);
+  shape.family = exactly_one_key(map, shape_family_names());
+  shape.parameters = family_named(shape.family).read_shape(map.get(shape.family));
+  return shape;
+}
+
+std::vector<ShapeConfig> read_shapes(const Value& list) {
+  std::vector<ShapeConfig> shapes;
+  UniqueNames names("shapes");
+  for_each_item(list, "a sequence of shapes", true,
+                [&](const Value& item) { shapes.push_back(read_shape(item, names)); });
+  return shapes;
+}
+
+KeyList shape_names(const std::vector<ShapeConfig>& shapes) {
+  KeyList names;
+  for (const auto& shape : shapes)
+    names.push_back(shape.name);
+  return names;
+}
+
+// The shape a source names; refuses unknown names with the list of defined ones.
+const ShapeConfig& shape_named(const Value& value, const std::vector<ShapeConfig>& shapes) {
+  const std::string expectation =
+      shapes.empty()
+          ? "the name of a shape defined under shapes (none is defined)"
+          : "the name of a shape defined under shapes (" + join(shape_names(shapes)) + ")";
+  const std::string name = text(value, expectation);
+  for (const auto& shape : shapes)
+    if (shape.name == name)
+      return shape;
+  value.expected(expectation);
+}
+
+// A shaped source places one template; its `sizes` say the template's smallest size (for the
+// default skin) while the engine sizes the bounding spheres.
+SizeDistributionConfig sizes_of_shape(const ShapeConfig& shape) {
+  SizeDistributionConfig sizes;
+  sizes.kind = SizeDistributionConfig::Kind::Monodisperse;
+  sizes.radius = shape.parameters->smallest_size();
+  return sizes;
+}
+
+void read_family_settings(const Mapping& map, SceneConfig& scene) {
+  for (const FamilyScene& family : family_scenes())
+    if (!family.settings_key.empty())
+      if (auto value_found = map.find(family.settings_key))
+        scene.family_settings[family.name] = family.read_settings(*value_found);
+}
 
 // A fixed `orientation` and random orientations exclude each other; a fixed one is normalised.
 void read_orientation(const Mapping& map, ParticleSourceConfig& source) {
@@ -511,12 +580,20 @@ double default_skin(const SceneConfig& scene) {
   return default_skin_per_radius * smallest;
 }
 
-const KeyList scene_keys{"time_step", "duration",  "gravity",      "skin",   "sort_by_cell",
-                         "domain",    "materials", "interactions", "shapes", "superquadric_contact",
-                         "particles", "walls",     "outlets",      "output"};
+// The schema's keys, and each family's settings key after `shapes`.
+KeyList scene_keys() {
+  KeyList keys{"time_step", "duration",  "gravity",      "skin",   "sort_by_cell",
+               "domain",    "materials", "interactions", "shapes", "particles",
+               "walls",     "outlets",   "output"};
+  auto after_shapes = keys.begin() + 9;
+  for (const FamilyScene& family : family_scenes())
+    if (!family.settings_key.empty())
+      after_shapes = keys.insert(after_shapes, family.settings_key) + 1;
+  return keys;
+}
 
 SceneConfig read_scene(const Value& root) {
-  const Mapping map(root, scene_keys);
+  const Mapping map(root, scene_keys());
   SceneConfig scene;
   scene.source_file = root.source().display_name;
   scene.time_step = positive(map.get("time_step"), "seconds");
@@ -530,8 +607,7 @@ SceneConfig read_scene(const Value& root) {
     scene.interactions = read_interactions(*value_found, scene.materials);
   if (auto value_found = map.find("shapes"))
     scene.shapes = read_shapes(*value_found);
-  if (auto value_found = map.find("superquadric_contact"))
-    scene.superquadric_contact = read_superquadric_contact(*value_found);
+  read_family_settings(map, scene);
   read_bodies(map, scene);
   if (auto value_found = map.find("output"))
     scene.output = read_output(*value_found);
@@ -551,7 +627,7 @@ YAML::Node parse_single_document(const std::string& yaml_text, const SceneSource
   }
   if (documents.empty())
     throw_at(source, YAML::Mark(), "",
-             "expected a mapping with keys " + join(scene_keys) + ", got an empty file");
+             "expected a mapping with keys " + join(scene_keys()) + ", got an empty file");
   if (documents.size() > 1)
     throw_at(source, documents[1].Mark(), "",
              "expected a single YAML document, got " + std::to_string(documents.size()));

@@ -6,6 +6,20 @@
 
 namespace kdem {
 
+// Triangles in a body frame: 3 coordinates per point (m), 3 point indices per triangle.
+struct BodySurface {
+  std::vector<double> points;
+  std::vector<int> triangles;
+};
+
+// A named value of `components` numbers per item (per particle in a snapshot, per template in
+// a shape template).
+struct ShapeField {
+  std::string name;
+  int components = 1;
+  std::vector<double> values;
+};
+
 struct ParticleSnapshot {
   std::int64_t step = 0;
   double time = 0; // s
@@ -22,10 +36,13 @@ struct ParticleSnapshot {
   // tag (-1: none), with the names they index; empty when the writer has no sources.
   std::vector<int> source, tag;
   std::vector<std::string> source_names, tag_names;
-  // Shape of each particle as a superquadric (a sphere is a = b = c = r, n1 = n2 = 2); empty
-  // when the writer of the snapshot has no shapes (then frames carry only the radius).
-  std::vector<double> half_axes;  // 3N, m, semi-axes a, b, c along body x, y, z
-  std::vector<double> blockiness; // 2N, n1 (profile along z), n2 (xy cross-section)
+  // Values that the shape families describe their shapes by (a superquadric's half_axes and
+  // blockiness), per particle; NaN for a particle whose shape has no such value.
+  std::vector<ShapeField> shape_fields;
+  // The surface of each shape id in its body frame, for pictures; shape 0 (spheres) is of unit
+  // radius, drawn scaled by each particle's radius. Empty when the writer has no shapes (then
+  // frames carry only the radius).
+  std::vector<BodySurface> shape_surfaces;
   std::size_t size() const { return radius.size(); }
 };
 

@@ -1,21 +1,31 @@
-// The scene keys of superquadric particles: the `shapes` list (book Eq. 2.1: semi-axes and
-// blockiness exponents) and `superquadric_contact` (narrow-phase controls).
+// The scene keys of superquadric particles: a shape entry's `superquadric` (book Eq. 2.1:
+// semi-axes and blockiness exponents) and `superquadric_contact` (narrow-phase controls).
 #include "superquadric_scene.hpp"
 
-namespace kdem::scene_yaml {
+#include "body_surface.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace kdem {
+namespace {
+
+using namespace scene_yaml;
 
 // n >= 2 keeps the Hessian of the shape function finite on the surface; beyond 20 the corners
 // are sharper than the narrow phase is validated for.
 constexpr double smallest_blockiness = 2, largest_blockiness = 20;
 
-ShapeConfig read_shape(const Value& value, UniqueNames& names) {
-  const Mapping map(value, {"name", "superquadric"});
-  ShapeConfig shape;
-  shape.name = unique_name(map.get("name"), names);
-  const Mapping sq(map.get("superquadric"), {"half_axes", "blockiness"});
+// The family's key in a shape entry and in SceneConfig::family_settings (SuperquadricFamily::name).
+const char* const family_name = "superquadric";
+
+std::shared_ptr<const FamilyShapeParameters> read_superquadric(const Value& value) {
+  auto shape = std::make_shared<SuperquadricShapeParameters>();
+  const Mapping sq(value, {"half_axes", "blockiness"});
   const Value axes = sq.get("half_axes");
-  shape.half_axes = vector3(axes, "semi-axes a, b, c in metres");
-  for (double axis : shape.half_axes)
+  shape->half_axes = vector3(axes, "semi-axes a, b, c in metres");
+  for (double axis : shape->half_axes)
     if (!(axis > 0))
       axes.expected("three positive semi-axes a, b, c in metres");
   const Value blockiness = sq.get("blockiness");
@@ -25,42 +35,16 @@ ShapeConfig read_shape(const Value& value, UniqueNames& names) {
                   [](double n) { return n >= smallest_blockiness && n <= largest_blockiness; });
   if (exponents.size() != 2)
     blockiness.expected("a sequence [n1, n2] of two blockiness exponents");
-  shape.n1 = exponents[0];
-  shape.n2 = exponents[1];
+  shape->n1 = exponents[0];
+  shape->n2 = exponents[1];
   return shape;
 }
 
-std::vector<ShapeConfig> read_shapes(const Value& list) {
-  std::vector<ShapeConfig> shapes;
-  UniqueNames names("shapes");
-  for_each_item(list, "a sequence of shapes", true,
-                [&](const Value& item) { shapes.push_back(read_shape(item, names)); });
-  return shapes;
-}
-
-KeyList shape_names(const std::vector<ShapeConfig>& shapes) {
-  KeyList names;
-  for (const auto& shape : shapes)
-    names.push_back(shape.name);
-  return names;
-}
-
-const ShapeConfig& shape_named(const Value& value, const std::vector<ShapeConfig>& shapes) {
-  const std::string expectation =
-      shapes.empty()
-          ? "the name of a shape defined under shapes (none is defined)"
-          : "the name of a shape defined under shapes (" + join(shape_names(shapes)) + ")";
-  const std::string name = text(value, expectation);
-  for (const auto& shape : shapes)
-    if (shape.name == name)
-      return shape;
-  value.expected(expectation);
-}
-
-SuperquadricContactConfig read_superquadric_contact(const Value& value) {
+std::shared_ptr<const FamilySettings> read_superquadric_contact(const Value& value) {
   const Mapping map(value, {"tolerance", "max_iterations", "curvature_limit",
                             "separation_certificates", "compact_candidates", "team_size"});
-  SuperquadricContactConfig config;
+  auto settings = std::make_shared<SuperquadricContactConfig>();
+  SuperquadricContactConfig& config = *settings;
   if (auto value_found = map.find("tolerance"))
     config.tolerance = number_where(*value_found, "a Newton tolerance in (0, 1e-2]",
                                     [](double t) { return t > 0 && t <= 1e-2; });
@@ -75,16 +59,64 @@ SuperquadricContactConfig read_superquadric_contact(const Value& value) {
     config.compact_candidates = boolean(*value_found);
   if (auto value_found = map.find("team_size"))
     config.team_size = int(whole_number(*value_found, 0));
-  return config;
+  return settings;
 }
 
-// A shaped source places one template; its `sizes` say the smallest semi-axis (for the default
-// skin) while the engine sizes the bounding spheres.
-SizeDistributionConfig sizes_of_shape(const ShapeConfig& shape) {
-  SizeDistributionConfig sizes;
-  sizes.kind = SizeDistributionConfig::Kind::Monodisperse;
-  sizes.radius = *std::min_element(shape.half_axes.begin(), shape.half_axes.end());
-  return sizes;
+} // namespace
+
+double SuperquadricShapeParameters::smallest_size() const {
+  return *std::min_element(half_axes.begin(), half_axes.end());
 }
 
-} // namespace kdem::scene_yaml
+FamilyScene superquadric_scene() {
+  return {family_name, "superquadric_contact", read_superquadric, read_superquadric_contact};
+}
+
+const SuperquadricShapeParameters& superquadric_parameters(const ShapeConfig& shape) {
+  const auto* parameters = dynamic_cast<const SuperquadricShapeParameters*>(shape.parameters.get());
+  if (parameters == nullptr)
+    throw std::logic_error("shape '" + shape.name + "' carries no superquadric parameters");
+  return *parameters;
+}
+
+const SuperquadricContactConfig& superquadric_contact(const SceneConfig& scene) {
+  static const SuperquadricContactConfig defaults;
+  const auto found = scene.family_settings.find(family_name);
+  if (found == scene.family_settings.end())
+    return defaults;
+  return dynamic_cast<const SuperquadricContactConfig&>(*found->second);
+}
+
+SuperquadricContactConfig& modify_superquadric_contact(SceneConfig& scene) {
+  auto copy = std::make_shared<SuperquadricContactConfig>(superquadric_contact(scene));
+  scene.family_settings[family_name] = copy;
+  return *copy;
+}
+
+// sgn(t) |t|^e: the signed power of the parametric surface.
+double signed_power(double t, double exponent) {
+  return std::copysign(std::pow(std::abs(t), exponent), t);
+}
+
+// x = a c1^e1 c2^e2, y = b c1^e1 s2^e2, z = c s1^e1 with e1 = 2/n1, e2 = 2/n2.
+BodySurface superquadric_surface(Vec3d half_axes, double n1, double n2, int resolution) {
+  const double e1 = 2.0 / n1, e2 = 2.0 / n2;
+  const auto [a, b, c] = half_axes;
+  return latitude_longitude_surface(resolution, [&](double eta, double omega) {
+    return std::array<double, 3>{
+        a * signed_power(std::cos(eta), e1) * signed_power(std::cos(omega), e2),
+        b * signed_power(std::cos(eta), e1) * signed_power(std::sin(omega), e2),
+        c * signed_power(std::sin(eta), e1)};
+  });
+}
+
+ShapeConfig superquadric_shape_config(const std::string& name, Vec3d half_axes, double n1,
+                                      double n2) {
+  auto parameters = std::make_shared<SuperquadricShapeParameters>();
+  parameters->half_axes = half_axes;
+  parameters->n1 = n1;
+  parameters->n2 = n2;
+  return {name, family_name, parameters};
+}
+
+} // namespace kdem

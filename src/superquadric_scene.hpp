@@ -1,20 +1,44 @@
 #pragma once
-// Readers of the superquadric family's scene keys (superquadric_scene.cpp).
-#include <vector>
+// The superquadric family's scene keys (superquadric_scene.cpp): the parameters of a shape
+// entry `superquadric: {half_axes, blockiness}` (book Eq. 2.1) and the `superquadric_contact`
+// settings.
+#include "family_scene.hpp"
+#include "snapshot.hpp"
 
-#include "scene.hpp"
-#include "scene_yaml.hpp"
+namespace kdem {
 
-namespace kdem::scene_yaml {
+// Semi-axes a, b, c along the body x, y, z and blockiness n1 (profile along z), n2 (xy
+// cross-section).
+struct SuperquadricShapeParameters : FamilyShapeParameters {
+  Vec3d half_axes{0, 0, 0}; // m
+  double n1 = 2, n2 = 2;
+  double smallest_size() const override;
+};
 
-// `shapes`: a sequence of named templates.
-std::vector<ShapeConfig> read_shapes(const Value& list);
-// The shape a source names; refuses unknown names with the list of defined ones.
-const ShapeConfig& shape_named(const Value& value, const std::vector<ShapeConfig>& shapes);
-// `superquadric_contact`: Newton tolerance and cap, curvature limit, kernel layout switches.
-SuperquadricContactConfig read_superquadric_contact(const Value& value);
-// A shaped source places one template; its `sizes` say the smallest semi-axis (for the default
-// skin) while the engine sizes the bounding spheres.
-SizeDistributionConfig sizes_of_shape(const ShapeConfig& shape);
+// Controls of the superquadric narrow phase and of its contact radius.
+struct SuperquadricContactConfig : FamilySettings {
+  double tolerance = 0;       // Newton tolerance; 0: the engine's default
+  int max_iterations = 0;     // Newton iteration cap; 0: the engine's default
+  double curvature_limit = 2; // R* from curvature is kept within [1/limit, limit] x R*_volume
+  bool separation_certificates = true; // skip pairs whose gap bound outlasts their motion
+  bool compact_candidates = true;      // scan the box tests' survivors into a dense list
+  int team_size = 0;                   // lanes per team of the narrow-phase kernels; 0: flat
+};
 
-} // namespace kdem::scene_yaml
+// Its entry in the registry of scene readers.
+FamilyScene superquadric_scene();
+
+// The parameters of a superquadric shape entry; throws std::logic_error for another family's.
+const SuperquadricShapeParameters& superquadric_parameters(const ShapeConfig& shape);
+// The scene's superquadric settings (the defaults where it sets none), and a modifiable copy
+// that replaces them (for programs that build scenes).
+const SuperquadricContactConfig& superquadric_contact(const SceneConfig& scene);
+SuperquadricContactConfig& modify_superquadric_contact(SceneConfig& scene);
+// Barr's parametric surface (1981) in the body frame on the latitude-longitude grid of
+// body_surface.hpp, for output.
+BodySurface superquadric_surface(Vec3d half_axes, double n1, double n2, int resolution);
+// A superquadric shape entry made in code.
+ShapeConfig superquadric_shape_config(const std::string& name, Vec3d half_axes, double n1,
+                                      double n2);
+
+} // namespace kdem

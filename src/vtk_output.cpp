@@ -79,53 +79,45 @@ void check_particle_lengths(const fs::path& path, const ParticleSnapshot& snapsh
     check_length(path, "source", snapshot.source.size(), 1, count, "particle");
     check_length(path, "tag", snapshot.tag.size(), 1, count, "particle");
   }
-  if (!snapshot.half_axes.empty() || !snapshot.blockiness.empty()) {
-    check_length(path, "half_axes", snapshot.half_axes.size(), 3, count, "particle");
-    check_length(path, "blockiness", snapshot.blockiness.size(), 2, count, "particle");
+  for (const ShapeField& field : snapshot.shape_fields)
+    check_length(path, field.name.c_str(), field.values.size(), std::size_t(field.components),
+                 count, "particle");
+}
+
+// Every particle's shape has a surface, and every surface's triangles index its points.
+void check_shape_surfaces(const fs::path& path, const ParticleSnapshot& snapshot) {
+  for (std::size_t i = 0; i < snapshot.size(); ++i)
+    if (snapshot.shape[i] < 0 || std::size_t(snapshot.shape[i]) >= snapshot.shape_surfaces.size())
+      throw write_error(path, "particle " + std::to_string(i) + " has shape " +
+                                  std::to_string(snapshot.shape[i]) + ", outside the " +
+                                  std::to_string(snapshot.shape_surfaces.size()) +
+                                  " shape surfaces of the snapshot");
+  for (std::size_t k = 0; k < snapshot.shape_surfaces.size(); ++k) {
+    const BodySurface& surface = snapshot.shape_surfaces[k];
+    const std::size_t points = surface.points.size() / 3;
+    for (int index : surface.triangles)
+      if (index < 0 || std::size_t(index) >= points || surface.points.size() % 3 != 0)
+        throw write_error(path, "the surface of shape " + std::to_string(k) +
+                                    " has a triangle corner outside its " + std::to_string(points) +
+                                    " points");
   }
 }
 
-// sgn(t) |t|^e: the signed power of the superquadric's parametric surface.
-double signed_power(double t, double exponent) {
-  return std::copysign(std::pow(std::abs(t), exponent), t);
-}
-
-// Points of one particle's surface, x = a c1^e1 c2^e2, y = b c1^e1 s2^e2, z = c s1^e1 with
-// e1 = 2/n1, e2 = 2/n2, over latitude (poles included) and longitude, posed in the world.
-void append_surface_points(const ParticleSnapshot& s, std::size_t i, int resolution,
-                           std::vector<double>& points) {
-  const double pi = 3.14159265358979323846;
-  const double a = s.half_axes[3 * i], b = s.half_axes[3 * i + 1], c = s.half_axes[3 * i + 2];
-  const double e1 = 2.0 / s.blockiness[2 * i], e2 = 2.0 / s.blockiness[2 * i + 1];
+// The body-frame surface of particle i (scaled by its radius for shape 0, the unit sphere),
+// posed by its position and quaternion: v' = v + 2w (u x v) + 2 u x (u x v), u = (qx, qy, qz).
+void append_posed_surface(const ParticleSnapshot& s, std::size_t i, const BodySurface& surface,
+                          std::vector<double>& points) {
+  const double scale = s.shape[i] == 0 ? s.radius[i] : 1.0;
   const double qw = s.quaternion[4 * i], qx = s.quaternion[4 * i + 1], qy = s.quaternion[4 * i + 2],
                qz = s.quaternion[4 * i + 3];
-  const int latitudes = resolution / 2;
-  for (int la = 0; la <= latitudes; ++la) {
-    const double eta = -0.5 * pi + pi * la / latitudes;
-    for (int lo = 0; lo < resolution; ++lo) {
-      const double omega = 2 * pi * lo / resolution;
-      const double x = a * signed_power(std::cos(eta), e1) * signed_power(std::cos(omega), e2);
-      const double y = b * signed_power(std::cos(eta), e1) * signed_power(std::sin(omega), e2);
-      const double z = c * signed_power(std::sin(eta), e1);
-      // v' = v + 2w (u x v) + 2 u x (u x v), u = (qx, qy, qz)
-      const double tx = 2 * (qy * z - qz * y), ty = 2 * (qz * x - qx * z),
-                   tz = 2 * (qx * y - qy * x);
-      points.push_back(s.position[3 * i] + x + qw * tx + (qy * tz - qz * ty));
-      points.push_back(s.position[3 * i + 1] + y + qw * ty + (qz * tx - qx * tz));
-      points.push_back(s.position[3 * i + 2] + z + qw * tz + (qx * ty - qy * tx));
-    }
+  for (std::size_t k = 0; k + 2 < surface.points.size(); k += 3) {
+    const double x = scale * surface.points[k], y = scale * surface.points[k + 1],
+                 z = scale * surface.points[k + 2];
+    const double tx = 2 * (qy * z - qz * y), ty = 2 * (qz * x - qx * z), tz = 2 * (qx * y - qy * x);
+    points.push_back(s.position[3 * i] + x + qw * tx + (qy * tz - qz * ty));
+    points.push_back(s.position[3 * i + 1] + y + qw * ty + (qz * tx - qx * tz));
+    points.push_back(s.position[3 * i + 2] + z + qw * tz + (qx * ty - qy * tx));
   }
-}
-
-// Two triangles per quad of the latitude-longitude grid of one particle's points.
-void append_surface_triangles(vtkIdType first, int resolution, std::vector<vtkIdType>& triangles) {
-  const int latitudes = resolution / 2;
-  auto index = [&](int la, int lo) { return first + la * resolution + (lo % resolution); };
-  for (int la = 0; la < latitudes; ++la)
-    for (int lo = 0; lo < resolution; ++lo) {
-      triangles.insert(triangles.end(), {index(la, lo), index(la, lo + 1), index(la + 1, lo + 1)});
-      triangles.insert(triangles.end(), {index(la, lo), index(la + 1, lo + 1), index(la + 1, lo)});
-    }
 }
 
 template <class VtkArray, class Value>
@@ -257,10 +249,9 @@ void write_particles_vtu(const fs::path& path, const ParticleSnapshot& snapshot)
   point_data->AddArray(make_array<vtkIntArray>("shape", 1, snapshot.shape));
   point_data->AddArray(make_array<vtkIntArray>("material", 1, snapshot.material));
   point_data->AddArray(make_array<vtkTypeInt64Array>("id", 1, snapshot.id));
-  if (!snapshot.half_axes.empty()) {
-    point_data->AddArray(make_array<vtkDoubleArray>("half_axes", 3, snapshot.half_axes));
-    point_data->AddArray(make_array<vtkDoubleArray>("blockiness", 2, snapshot.blockiness));
-  }
+  for (const ShapeField& field : snapshot.shape_fields)
+    point_data->AddArray(
+        make_array<vtkDoubleArray>(field.name.c_str(), field.components, field.values));
   if (!snapshot.source.empty()) {
     point_data->AddArray(make_array<vtkIntArray>("source", 1, snapshot.source));
     point_data->AddArray(make_array<vtkIntArray>("tag", 1, snapshot.tag));
@@ -272,25 +263,23 @@ void write_particles_vtu(const fs::path& path, const ParticleSnapshot& snapshot)
   write_with_xml_writer(vtkSmartPointer<vtkXMLUnstructuredGridWriter>::New(), grid, path);
 }
 
-void write_particle_surfaces_vtp(const fs::path& path, const ParticleSnapshot& snapshot,
-                                 int resolution) {
+void write_particle_surfaces_vtp(const fs::path& path, const ParticleSnapshot& snapshot) {
   check_particle_lengths(path, snapshot);
-  if (snapshot.size() > 0 && snapshot.half_axes.empty())
+  if (snapshot.size() > 0 && snapshot.shape_surfaces.empty())
     throw write_error(path, "the snapshot has no particle shapes");
-  if (resolution < 4)
-    throw write_error(path, "surface resolution " + std::to_string(resolution) + " is below 4");
-  resolution += resolution % 2;
-  const std::size_t points_per_particle = std::size_t(resolution) * (resolution / 2 + 1);
+  check_shape_surfaces(path, snapshot);
   std::vector<double> points;
   std::vector<vtkIdType> triangles;
   std::vector<std::int64_t> point_id;
   std::vector<int> point_shape;
-  points.reserve(3 * points_per_particle * snapshot.size());
   for (std::size_t i = 0; i < snapshot.size(); ++i) {
-    append_surface_triangles(vtkIdType(i * points_per_particle), resolution, triangles);
-    append_surface_points(snapshot, i, resolution, points);
-    point_id.insert(point_id.end(), points_per_particle, snapshot.id[i]);
-    point_shape.insert(point_shape.end(), points_per_particle, snapshot.shape[i]);
+    const BodySurface& body = snapshot.shape_surfaces[snapshot.shape[i]];
+    const vtkIdType first = vtkIdType(points.size() / 3);
+    for (int corner : body.triangles)
+      triangles.push_back(first + corner);
+    append_posed_surface(snapshot, i, body, points);
+    point_id.insert(point_id.end(), body.points.size() / 3, snapshot.id[i]);
+    point_shape.insert(point_shape.end(), body.points.size() / 3, snapshot.shape[i]);
   }
   auto surface = vtkSmartPointer<vtkPolyData>::New();
   surface->SetPoints(make_points(points));

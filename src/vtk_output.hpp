@@ -14,16 +14,16 @@ namespace kdem {
 // quaternion (4, w x y z), radius, shape, material, id (Int64). Field data: TimeValue (s) and
 // step. Binary appended, zlib-compressed. Throws std::runtime_error naming the file when the
 // snapshot's arrays disagree in length or the file cannot be written.
-// With shapes in the snapshot, also half_axes (3) and blockiness (2).
+// Also each of the snapshot's shape fields (e.g. half_axes (3) and blockiness (2)).
 void write_particles_vtu(const std::filesystem::path& path, const ParticleSnapshot& snapshot);
 
-// The true surface of every particle of a snapshot that has shapes, as triangles of the
-// superquadric's parametric surface (Barr 1981; `resolution` steps of longitude, half as many
-// of latitude), posed by position and quaternion. Point data: id and shape per surface point,
-// so ParaView can colour or threshold by particle. Throws std::runtime_error naming the file
-// for a snapshot without shapes or a failed write.
+// The surface of every particle of a snapshot that has shapes: its shape's body-frame surface
+// (shape 0 scaled by the particle's radius), posed by position and quaternion. Point data: id
+// and shape per surface point, so ParaView can colour or threshold by particle. Throws
+// std::runtime_error naming the file for a snapshot without shapes, a particle whose shape has
+// no surface, a triangle outside its surface's points, or a failed write.
 void write_particle_surfaces_vtp(const std::filesystem::path& path,
-                                 const ParticleSnapshot& snapshot, int resolution = 16);
+                                 const ParticleSnapshot& snapshot);
 
 // The wall's triangles as polydata; the wall's name is stored as field data "name". Throws
 // std::runtime_error naming the file for out-of-range indices or a failed write.

@@ -32,10 +32,12 @@
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include "atomic_file.hpp"
+#include "body_surface.hpp"
 #include "hdf5_io.hpp"
 #include "progress.hpp"
 #include "run_summary.hpp"
 #include "series_csv.hpp"
+#include "superquadric_scene.hpp"
 #include "vtk_output.hpp"
 
 namespace fs = std::filesystem;
@@ -391,11 +393,24 @@ TEST_F(OutputTest, VtuIntoMissingDirectoryThrowsAndLeavesNoFile) {
   EXPECT_TRUE(file_names_in(directory).empty());
 }
 
-// The three particles as a sphere, a cube-like and a cylinder-like superquadric.
+// The three particles as a sphere, a cube-like and a cylinder-like superquadric (shape ids 0,
+// 1, 2), with their semi-axes and exponents here (a sphere: a = b = c = r, n1 = n2 = 2).
+const double shaped_half_axes[3][3] = {{0.01, 0.01, 0.01}, {0.02, 0.01, 0.005}, {0.01, 0.01, 0.03}};
+const double shaped_blockiness[3][2] = {{2, 2}, {8, 8}, {8, 2}};
+const int surface_resolution = 16;
+
 ParticleSnapshot three_shaped_particles() {
   ParticleSnapshot snapshot = three_particles();
-  snapshot.half_axes = {0.01, 0.01, 0.01, 0.02, 0.01, 0.005, 0.01, 0.01, 0.03};
-  snapshot.blockiness = {2, 2, 8, 8, 8, 2};
+  snapshot.shape = {0, 1, 2};
+  const double none = std::numeric_limits<double>::quiet_NaN();
+  snapshot.shape_fields = {
+      {"half_axes", 3, {none, none, none, 0.02, 0.01, 0.005, 0.01, 0.01, 0.03}},
+      {"blockiness", 2, {none, none, 8, 8, 8, 2}}};
+  snapshot.shape_surfaces = {unit_sphere_surface(surface_resolution)};
+  for (int k = 1; k < 3; ++k)
+    snapshot.shape_surfaces.push_back(superquadric_surface(
+        {shaped_half_axes[k][0], shaped_half_axes[k][1], shaped_half_axes[k][2]},
+        shaped_blockiness[k][0], shaped_blockiness[k][1], surface_resolution));
   return snapshot;
 }
 
@@ -410,8 +425,8 @@ double shape_function_at(const ParticleSnapshot& s, std::size_t i, const double 
                tz = 2 * (ux * d[1] - uy * d[0]);
   const double x = d[0] + w * tx + (uy * tz - uz * ty), y = d[1] + w * ty + (uz * tx - ux * tz),
                z = d[2] + w * tz + (ux * ty - uy * tx);
-  const double a = s.half_axes[3 * i], b = s.half_axes[3 * i + 1], c = s.half_axes[3 * i + 2];
-  const double n1 = s.blockiness[2 * i], n2 = s.blockiness[2 * i + 1];
+  const double a = shaped_half_axes[i][0], b = shaped_half_axes[i][1], c = shaped_half_axes[i][2];
+  const double n1 = shaped_blockiness[i][0], n2 = shaped_blockiness[i][1];
   return std::pow(std::pow(std::abs(x / a), n2) + std::pow(std::abs(y / b), n2), n1 / n2) +
          std::pow(std::abs(z / c), n1) - 1;
 }
@@ -428,13 +443,14 @@ TEST_F(OutputTest, ShapedFrameCarriesSemiAxesAndBlockiness) {
   EXPECT_EQ(point_data->GetArray("half_axes")->GetComponent(1, 2), 0.005);
   EXPECT_EQ(point_data->GetArray("blockiness")->GetComponent(2, 0), 8);
   EXPECT_EQ(point_data->GetArray("blockiness")->GetComponent(2, 1), 2);
+  EXPECT_TRUE(std::isnan(point_data->GetArray("half_axes")->GetComponent(0, 0))); // the sphere
 }
 
 TEST_F(OutputTest, ParticleSurfacesLieOnTheTrueShapes) {
   const ParticleSnapshot snapshot = three_shaped_particles();
   const fs::path path = directory / "shapes.vtp";
-  const int resolution = 16;
-  write_particle_surfaces_vtp(path, snapshot, resolution);
+  const int resolution = surface_resolution;
+  write_particle_surfaces_vtp(path, snapshot);
   vtkNew<vtkXMLPolyDataReader> reader;
   reader->SetFileName(path.c_str());
   reader->Update();
@@ -454,6 +470,19 @@ TEST_F(OutputTest, ParticleSurfacesLieOnTheTrueShapes) {
   }
   // Points are exact on the surface up to rounding of the pose and the powers.
   EXPECT_LT(worst, 1e-9);
+}
+
+TEST_F(OutputTest, SurfacesRefuseAShapeWithoutSurfaceAndAStrayTriangle) {
+  const fs::path path = directory / "shapes.vtp";
+  ParticleSnapshot unknown_shape = three_shaped_particles();
+  unknown_shape.shape[2] = 3;
+  expect_runtime_error_mentioning([&] { write_particle_surfaces_vtp(path, unknown_shape); },
+                                  {path.string(), "particle 2 has shape 3", "3 shape surfaces"});
+  ParticleSnapshot stray = three_shaped_particles();
+  stray.shape_surfaces[1].triangles.back() = int(stray.shape_surfaces[1].points.size() / 3);
+  expect_runtime_error_mentioning([&] { write_particle_surfaces_vtp(path, stray); },
+                                  {path.string(), "surface of shape 1", "outside"});
+  EXPECT_TRUE(file_names_in(directory).empty());
 }
 
 TEST_F(OutputTest, SurfacesNeedShapes) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "src/scene_loader.hpp"
+#include "src/superquadric_scene.hpp"
 
 namespace {
 
@@ -864,22 +865,33 @@ TEST(SceneShapes, ShapedSourceTakesTheTemplate) {
                 "curvature_limit: 3}\n");
   ASSERT_EQ(scene.shapes.size(), 1u);
   EXPECT_EQ(scene.shapes[0].name, "cube");
-  EXPECT_EQ(scene.shapes[0].half_axes, (kdem::Vec3d{0.001, 0.002, 0.003}));
-  EXPECT_EQ(scene.shapes[0].n1, 8);
-  EXPECT_EQ(scene.shapes[0].n2, 6);
+  EXPECT_EQ(scene.shapes[0].family, "superquadric");
+  const kdem::SuperquadricShapeParameters& cube = kdem::superquadric_parameters(scene.shapes[0]);
+  EXPECT_EQ(cube.half_axes, (kdem::Vec3d{0.001, 0.002, 0.003}));
+  EXPECT_EQ(cube.n1, 8);
+  EXPECT_EQ(cube.n2, 6);
   EXPECT_EQ(scene.sources[0].shape, "cube");
   // The default skin follows the smallest semi-axis of a shaped source.
   EXPECT_DOUBLE_EQ(scene.skin, kdem::default_skin_per_radius * 0.001);
-  EXPECT_EQ(scene.superquadric_contact.tolerance, 1e-8);
-  EXPECT_EQ(scene.superquadric_contact.max_iterations, 25);
-  EXPECT_EQ(scene.superquadric_contact.curvature_limit, 3);
+  EXPECT_EQ(kdem::superquadric_contact(scene).tolerance, 1e-8);
+  EXPECT_EQ(kdem::superquadric_contact(scene).max_iterations, 25);
+  EXPECT_EQ(kdem::superquadric_contact(scene).curvature_limit, 3);
 }
 
 TEST(SceneShapes, SpheresHaveNoShape) {
   const SceneConfig scene = load_text(minimal_scene());
   EXPECT_TRUE(scene.shapes.empty());
   EXPECT_TRUE(scene.sources[0].shape.empty());
-  EXPECT_EQ(scene.superquadric_contact.curvature_limit, 2);
+  EXPECT_EQ(kdem::superquadric_contact(scene).curvature_limit, 2);
+}
+
+TEST(SceneShapes, AShapeNamesExactlyOneFamily) {
+  const std::string none = "shapes:\n  - name: cube\n    tag: x\n";
+  EXPECT_TRUE(fails_with(minimal_scene_plus(none), 16, "shapes[0].tag",
+                         "expected one of the keys name, superquadric, got the key \"tag\""));
+  std::string missing = "shapes:\n  - name: cube\n";
+  EXPECT_TRUE(fails_with(minimal_scene_plus(missing), 15, "shapes[0]",
+                         "expected exactly one of the keys superquadric, got none"));
 }
 
 TEST(SceneShapes, UnknownShapeNamesTheDefinedOnes) {
@@ -934,10 +946,10 @@ TEST(SceneShapes, ToleranceOutOfRange) {
 }
 
 TEST(SceneShapes, SeparationCertificatesAreOnByDefaultAndCanBeTurnedOff) {
-  EXPECT_TRUE(load_text(minimal_scene()).superquadric_contact.separation_certificates);
+  EXPECT_TRUE(kdem::superquadric_contact(load_text(minimal_scene())).separation_certificates);
   const SceneConfig scene =
       load_text(minimal_scene_plus("superquadric_contact: {separation_certificates: false}\n"));
-  EXPECT_FALSE(scene.superquadric_contact.separation_certificates);
+  EXPECT_FALSE(kdem::superquadric_contact(scene).separation_certificates);
   EXPECT_TRUE(fails_with(minimal_scene_plus("superquadric_contact: {separation_certificates: 2}\n"),
                          14, "superquadric_contact.separation_certificates",
                          "expected true or false"));
@@ -952,12 +964,12 @@ TEST(SceneKeys, SortByCellIsOnByDefault) {
 
 TEST(SceneShapes, NarrowPhaseLayoutKeys) {
   const SceneConfig defaults = load_text(minimal_scene());
-  EXPECT_TRUE(defaults.superquadric_contact.compact_candidates);
-  EXPECT_EQ(defaults.superquadric_contact.team_size, 0);
+  EXPECT_TRUE(kdem::superquadric_contact(defaults).compact_candidates);
+  EXPECT_EQ(kdem::superquadric_contact(defaults).team_size, 0);
   const SceneConfig scene = load_text(
       minimal_scene_plus("superquadric_contact: {compact_candidates: false, team_size: 64}\n"));
-  EXPECT_FALSE(scene.superquadric_contact.compact_candidates);
-  EXPECT_EQ(scene.superquadric_contact.team_size, 64);
+  EXPECT_FALSE(kdem::superquadric_contact(scene).compact_candidates);
+  EXPECT_EQ(kdem::superquadric_contact(scene).team_size, 64);
   EXPECT_TRUE(fails_with(minimal_scene_plus("superquadric_contact: {team_size: -1}\n"), 14,
                          "superquadric_contact.team_size", "expected"));
 }

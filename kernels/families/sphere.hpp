@@ -17,6 +17,7 @@ struct SphereFamily {
   static constexpr bool surface_turns = false;
   static constexpr int contact_points = 1; // features it may touch another body with
   static constexpr bool iterative_narrow_phase = false;
+  static constexpr bool shape_templates = false; // shape id 0, sized by the particle's radius
 
   struct Table {};
 

@@ -6,6 +6,7 @@
 #include "../../shapes/superquadric.hpp"
 #include "../../shapes/superquadric_contact.hpp"
 #include "../families/family_rows.hpp"
+#include "../families/host_hooks.hpp"
 #include "../walls.hpp"
 
 namespace kdem {
@@ -28,6 +29,7 @@ struct SuperquadricFamily {
   static constexpr bool surface_turns = true;
   static constexpr int contact_points = 1; // features it may touch another body with
   static constexpr bool iterative_narrow_phase = true;
+  static constexpr bool shape_templates = true; // its scene shapes: `superquadric` entries
 
   struct Table {
     DeviceView<SuperquadricShape*> shapes;
@@ -46,6 +48,9 @@ struct SuperquadricFamily {
                              load_quat(p.orientation, i));
   }
 
+  // Host side (src/superquadric_setup.cpp): volume, inertia, bounding radius, output fields and
+  // surface of each scene shape, and this table.
+  static std::vector<ShapeTemplate> setup_templates(const FamilyShapes& shapes, Table& table);
   static SuperquadricWallContactOf wall_contact(const Table& t, const ShapeFamilies& s,
                                                 const WallElements& elements,
                                                 const ParticleViews& p);

@@ -12,6 +12,7 @@
 #include "src/engine.hpp"
 #include "src/scene.hpp"
 #include "src/scene_loader.hpp"
+#include "src/superquadric_scene.hpp"
 
 namespace kdem::testing {
 

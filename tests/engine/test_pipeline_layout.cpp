@@ -18,8 +18,9 @@ namespace {
 
 RunOutcome run_small_superquadrics(bool compact, int team_size, int steps) {
   SceneConfig scene = cli_scene("small_superquadrics");
-  scene.superquadric_contact.compact_candidates = compact;
-  scene.superquadric_contact.team_size = team_size;
+  SuperquadricContactConfig& contact = modify_superquadric_contact(scene);
+  contact.compact_candidates = compact;
+  contact.team_size = team_size;
   return run_steps(scene, steps);
 }
 

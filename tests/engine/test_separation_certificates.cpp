@@ -257,8 +257,9 @@ namespace {
 
 RunOutcome run_small_superquadrics(bool certificates, int steps, double tolerance = 0) {
   SceneConfig scene = cli_scene("small_superquadrics");
-  scene.superquadric_contact.separation_certificates = certificates;
-  scene.superquadric_contact.tolerance = tolerance;
+  SuperquadricContactConfig& contact = modify_superquadric_contact(scene);
+  contact.separation_certificates = certificates;
+  contact.tolerance = tolerance;
   return run_steps(scene, steps);
 }
 

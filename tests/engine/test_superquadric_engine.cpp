@@ -14,12 +14,7 @@ namespace kdem::testing {
 namespace {
 
 ShapeConfig superquadric_shape(const std::string& name, Vec3d half_axes, double n1, double n2) {
-  ShapeConfig s;
-  s.name = name;
-  s.half_axes = half_axes;
-  s.n1 = n1;
-  s.n2 = n2;
-  return s;
+  return superquadric_shape_config(name, half_axes, n1, n2);
 }
 
 ParticleInit shaped(int shape, Vec3d position, std::array<double, 4> orientation,
@@ -61,7 +56,7 @@ SceneConfig two_ellipsoid_scene(double restitution, double friction, double curv
   SceneConfig scene =
       empty_scene(1e-7, {material("glass", 2500, 1e8, 0.25, restitution, friction)});
   scene.shapes.push_back(superquadric_shape("prolate", {1e-3, 1e-3, 2e-3}, 2, 2));
-  scene.superquadric_contact.curvature_limit = curvature_limit;
+  modify_superquadric_contact(scene).curvature_limit = curvature_limit;
   return scene;
 }
 

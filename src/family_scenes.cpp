@@ -1,0 +1,14 @@
+// The host registry of scene readers: one line per shape family. It mirrors the device
+// registry (kernels/families/registry.hpp) because the scene loader is built once, without
+// Kokkos, for every backend; Engine setup refuses a device family missing here.
+#include "family_scene.hpp"
+#include "superquadric_scene.hpp"
+
+namespace kdem {
+
+const std::vector<FamilyScene>& family_scenes() {
+  static const std::vector<FamilyScene> scenes{superquadric_scene()};
+  return scenes;
+}
+
+} // namespace kdem
