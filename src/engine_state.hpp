@@ -39,7 +39,6 @@ struct ShapeTemplate {
 struct FamilyShapes {
   std::vector<const ShapeConfig*> shapes;
   const FamilySettings* settings = nullptr;
-  std::string scene_file; // for messages
 };
 
 // The output fields of `templates`, one row per item: item k takes the values of template

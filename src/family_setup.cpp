@@ -51,7 +51,6 @@ void Engine::State::setup_shapes() {
 // The scene's shapes of family F get templates from F's setup hook, rows in scene order.
 template <class F> void Engine::State::setup_family_shapes(std::vector<bool>& set_up) {
   FamilyShapes family;
-  family.scene_file = scene.source_file;
   std::vector<std::size_t> shape_index;
   for (std::size_t k = 0; k < scene.shapes.size(); ++k)
     if (scene.shapes[k].family == F::name) {
