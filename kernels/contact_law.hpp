@@ -112,4 +112,20 @@ KOKKOS_INLINE_FUNCTION ContactOutput hertz_mindlin(const PairCoefficients& c,
   return out;
 }
 
+// A contact law, the pair and wall loops' template parameter: the force at one contact point
+// from its geometry, relative motion and history.
+//   static constexpr bool rolling;   it keeps a rolling torque (the slots then store one)
+//   static ContactOutput force(const PairCoefficients&, const ContactInput&, double dt,
+//                              ContactHistory&)
+// A law with other per-pair constants or history extends PairCoefficients and ContactHistory
+// (their storage is per slot in PairList and WallContactList).
+template <bool RollingResistance> struct HertzMindlin {
+  static constexpr bool rolling = RollingResistance;
+
+  KOKKOS_INLINE_FUNCTION static ContactOutput
+  force(const PairCoefficients& c, const ContactInput& in, double dt, ContactHistory& history) {
+    return hertz_mindlin<RollingResistance>(c, in, dt, history);
+  }
+};
+
 } // namespace kdem

@@ -59,9 +59,9 @@ struct PairSlots {
     store3(torque_on_i, k, Vec3{});
   }
 
-  // Hertz-Mindlin at one contact point (normal from j towards i) with the history `history`,
+  // The contact law at one contact point (normal from j towards i) with the history `history`,
   // which it advances; `torque` is the contact's torque on i about its centre.
-  template <bool RollingResistance>
+  template <class Law>
   KOKKOS_INLINE_FUNCTION ContactOutput law(const ParticleViews& p, int i, int j,
                                            const ContactGeometry& geometry, double effective_radius,
                                            const PairCoefficients& coefficients, double dt,
@@ -76,38 +76,38 @@ struct PairSlots {
     in.relative_angular_velocity = wi - wj;
     in.effective_radius = effective_radius;
     in.effective_mass = p.mass(i) * p.mass(j) / (p.mass(i) + p.mass(j));
-    const ContactOutput out = hertz_mindlin<RollingResistance>(coefficients, in, dt, history);
+    const ContactOutput out = Law::force(coefficients, in, dt, history);
     torque = cross(point - xi, out.force_on_i) + out.rolling_torque_on_i;
     return out;
   }
 
-  template <bool RollingResistance> KOKKOS_INLINE_FUNCTION ContactHistory history_of(int s) const {
+  template <class Law> KOKKOS_INLINE_FUNCTION ContactHistory history_of(int s) const {
     ContactHistory history{load3(spring, s), Vec3{}};
-    if constexpr (RollingResistance)
+    if constexpr (Law::rolling)
       history.rolling_torque = load3(rolling, s);
     return history;
   }
 
-  template <bool RollingResistance>
+  template <class Law>
   KOKKOS_INLINE_FUNCTION void keep_history(int s, const ContactHistory& history,
                                            double overlap_now) const {
     store3(spring, s, history.tangential_spring);
-    if constexpr (RollingResistance)
+    if constexpr (Law::rolling)
       store3(rolling, s, history.rolling_torque);
     overlap(s) = overlap_now;
   }
 
   // The contact point of a pair with one slot.
-  template <bool RollingResistance>
+  template <class Law>
   KOKKOS_INLINE_FUNCTION void apply(int k, const ParticleViews& p, int i, int j,
                                     const ContactGeometry& geometry, double effective_radius,
                                     const PairCoefficients& coefficients, double dt) const {
     const int s = slots.first(k);
-    ContactHistory history = history_of<RollingResistance>(s);
+    ContactHistory history = history_of<Law>(s);
     Vec3 torque;
-    const ContactOutput out = law<RollingResistance>(p, i, j, geometry, effective_radius,
-                                                     coefficients, dt, history, torque);
-    keep_history<RollingResistance>(s, history, geometry.overlap);
+    const ContactOutput out =
+        law<Law>(p, i, j, geometry, effective_radius, coefficients, dt, history, torque);
+    keep_history<Law>(s, history, geometry.overlap);
     store3(force_on_i, k, out.force_on_i);
     store3(torque_on_i, k, torque);
   }
@@ -117,7 +117,7 @@ struct PairSlots {
   // written to the pair's slots in the narrow phase's order (slots left over are cleared). The
   // pair's force and torque are their sums in that order. `flipped`: the narrow phase's first
   // body is j.
-  template <bool RollingResistance, int K>
+  template <class Law, int K>
   KOKKOS_INLINE_FUNCTION void apply_several(int k, const ParticleViews& p, int i, int j,
                                             const PairContacts<K>& found, bool flipped,
                                             const PairCoefficients& coefficients, double dt) const {
@@ -126,7 +126,7 @@ struct PairSlots {
     const auto previous = read_previous_slots<K, FeaturePair, ContactHistory>(
         first, kept, [&](int s, FeaturePair& key, ContactHistory& history) {
           key = {feature_i(s), feature_j(s)};
-          history = history_of<RollingResistance>(s);
+          history = history_of<Law>(s);
         });
     const int count = found.count < kept ? found.count : kept;
     Vec3 force, torque;
@@ -136,10 +136,9 @@ struct PairSlots {
       const int on_j = flipped ? contact.feature_a : contact.feature_b;
       ContactHistory history = previous.matching({on_i, on_j});
       Vec3 contact_torque;
-      const ContactOutput out =
-          law<RollingResistance>(p, i, j, contact.geometry, contact.effective_radius, coefficients,
-                                 dt, history, contact_torque);
-      keep_history<RollingResistance>(first + c, history, contact.geometry.overlap);
+      const ContactOutput out = law<Law>(p, i, j, contact.geometry, contact.effective_radius,
+                                         coefficients, dt, history, contact_torque);
+      keep_history<Law>(first + c, history, contact.geometry.overlap);
       feature_i(first + c) = on_i;
       feature_j(first + c) = on_j;
       force = c == 0 ? out.force_on_i : force + out.force_on_i;

@@ -405,9 +405,9 @@ template <int K> struct WallContacts {
   WallContactGeometry contact[K];
 };
 
-// Hertz-Mindlin of particle i at a contact with a wall at `wall`; advances `history` and gives
+// The contact law of particle i at a contact with a wall at `wall`; advances `history` and gives
 // the contact's torque on i about its centre.
-template <bool RollingResistance>
+template <class Law>
 KOKKOS_INLINE_FUNCTION ContactOutput wall_contact_law(const ParticleViews& p, int i,
                                                       const WallPose& wall,
                                                       const WallContactGeometry& contact,
@@ -422,8 +422,7 @@ KOKKOS_INLINE_FUNCTION ContactOutput wall_contact_law(const ParticleViews& p, in
   in.relative_angular_velocity = wi - wall.omega;
   in.effective_radius = contact.effective_radius;
   in.effective_mass = p.mass(i);
-  const ContactOutput out =
-      hertz_mindlin<RollingResistance>(table(p.material(i), wall.material), in, dt, history);
+  const ContactOutput out = Law::force(table(p.material(i), wall.material), in, dt, history);
   torque = cross(point - xi, out.force_on_i) + out.rolling_torque_on_i;
   return out;
 }
@@ -449,17 +448,17 @@ struct WallSlots {
       feature(s) = -1;
   }
 
-  template <bool RollingResistance> KOKKOS_INLINE_FUNCTION ContactHistory history_of(int s) const {
+  template <class Law> KOKKOS_INLINE_FUNCTION ContactHistory history_of(int s) const {
     ContactHistory history{load3(spring, s), Vec3{}};
-    if (RollingResistance)
+    if constexpr (Law::rolling)
       history.rolling_torque = load3(rolling, s);
     return history;
   }
 
-  template <bool RollingResistance>
+  template <class Law>
   KOKKOS_INLINE_FUNCTION void keep(int s, const ContactHistory& history, double overlap_now) const {
     store3(spring, s, history.tangential_spring);
-    if (RollingResistance)
+    if constexpr (Law::rolling)
       store3(rolling, s, history.rolling_torque);
     overlap(s) = overlap_now;
   }
@@ -482,7 +481,7 @@ KOKKOS_INLINE_FUNCTION void find_wall_contacts(const ContactOf& contact_of, int 
 // several, each takes the history of the slot that held the same feature at the last step (or
 // a fresh one), they are written from the entry's first slot on in the functor's order, and
 // their forces and torques summed in that order.
-template <bool RollingResistance, int K>
+template <class Law, int K>
 KOKKOS_INLINE_FUNCTION void store_wall_contacts(const WallSlots& slots, int k,
                                                 const ParticleViews& p, int i, const WallPose& wall,
                                                 const WallContacts<K>& found,
@@ -492,7 +491,7 @@ KOKKOS_INLINE_FUNCTION void store_wall_contacts(const WallSlots& slots, int k,
   const auto previous = read_previous_slots<K, int, ContactHistory>(
       first, kept, [&](int s, int& feature, ContactHistory& history) {
         feature = K == 1 ? 0 : slots.feature(s);
-        history = slots.history_of<RollingResistance>(s);
+        history = slots.history_of<Law>(s);
       });
   const int n = found.count < kept ? found.count : kept;
   Vec3 force, torque;
@@ -500,9 +499,9 @@ KOKKOS_INLINE_FUNCTION void store_wall_contacts(const WallSlots& slots, int k,
     const WallContactGeometry& contact = found.contact[c];
     ContactHistory history = previous.matching(contact.feature);
     Vec3 contact_torque;
-    const ContactOutput out = wall_contact_law<RollingResistance>(p, i, wall, contact, table, dt,
-                                                                  history, contact_torque);
-    slots.keep<RollingResistance>(first + c, history, contact.geometry.overlap);
+    const ContactOutput out =
+        wall_contact_law<Law>(p, i, wall, contact, table, dt, history, contact_torque);
+    slots.keep<Law>(first + c, history, contact.geometry.overlap);
     if (K > 1)
       slots.feature(first + c) = contact.feature;
     force = c == 0 ? out.force_on_i : force + out.force_on_i;
@@ -520,7 +519,7 @@ KOKKOS_INLINE_FUNCTION void store_wall_contacts(const WallSlots& slots, int k,
 // (max_contacts == 1: WallContactGeometry operator()(i, e, pose)) or several
 // (void operator()(i, e, pose, WallContacts<max_contacts>&)); SphereWallContact below, each
 // family's wall_contact.
-template <bool RollingResistance, class RowOf, class ContactOf>
+template <class Law, class RowOf, class ContactOf>
 void compute_wall_contacts(const std::string& label, const ParticleViews& p, const WallSet& walls,
                            const WallContactList& list, const CoefficientTable& table, double dt,
                            int count, RowOf row_of, ContactOf contact_of) {
@@ -539,7 +538,7 @@ void compute_wall_contacts(const std::string& label, const ParticleViews& p, con
           WallContacts<K> found;
           if (wall.active != 0)
             find_wall_contacts(contact_of, i, e, wall, found);
-          store_wall_contacts<RollingResistance>(slots, k, p, i, wall, found, table, dt);
+          store_wall_contacts<Law>(slots, k, p, i, wall, found, table, dt);
         }
       });
 }

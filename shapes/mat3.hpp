@@ -39,6 +39,12 @@ KOKKOS_INLINE_FUNCTION Mat3 operator*(double s, const Mat3& a) {
   return c;
 }
 
+KOKKOS_INLINE_FUNCTION Mat3 identity3() {
+  Mat3 a;
+  a.m[0][0] = a.m[1][1] = a.m[2][2] = 1;
+  return a;
+}
+
 KOKKOS_INLINE_FUNCTION Mat3 transpose(const Mat3& a) {
   Mat3 t;
   for (int r = 0; r < 3; ++r)

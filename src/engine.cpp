@@ -458,27 +458,27 @@ ContactContext Engine::State::contact_context() const {
 }
 
 // The typed kernels of the families and pair types the scene holds, each over its rows.
-template <bool Rolling> void Engine::State::compute_forces_of_families() {
+template <class Law> void Engine::State::compute_forces_of_families() {
   const ContactContext c = contact_context();
   const int present = families_present;
   for_each_present_family(present, [&](auto tag) {
     using F = typename decltype(tag)::type;
-    compute_family_wall_contacts<F, Rolling>(c, family_rows.of<F>());
+    compute_family_wall_contacts<F, Law>(c, family_rows.of<F>());
   });
   for_each_pair_type<Families>([&](auto tag_a, auto tag_b) {
     using A = typename decltype(tag_a)::type;
     using B = typename decltype(tag_b)::type;
     const int both = (1 << family_index_v<A, Families>) | (1 << family_index_v<B, Families>);
     if ((present & both) == both)
-      compute_pair_type<A, B, Rolling>(c, family_rows.of_pair<A, B>());
+      compute_pair_type<A, B, Law>(c, family_rows.of_pair<A, B>());
   });
 }
 
 void Engine::State::compute_forces() {
   if (rolling)
-    compute_forces_of_families<true>();
+    compute_forces_of_families<HertzMindlin<true>>();
   else
-    compute_forces_of_families<false>();
+    compute_forces_of_families<HertzMindlin<false>>();
   sum_forces(particles, gravity, wall_contacts, pairs);
 }
 

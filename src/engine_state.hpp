@@ -127,7 +127,7 @@ struct Engine::State {
   bool rigid_rotation() const;
   bool needs_narrow_phase_state() const;
   ContactContext contact_context() const;
-  template <bool Rolling> void compute_forces_of_families();
+  template <class Law> void compute_forces_of_families();
   void compute_forces();
   void compute_forces_at_current_state();
   void insert_due_particles();

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "../kernels/ragged_table.hpp"
 #include "../kernels/types.hpp"
 
 namespace kdem {
@@ -69,6 +70,20 @@ View upload_rows(const std::string& label, const std::vector<std::array<Host, N>
       mirror(k, c) = rows[k][c];
   Kokkos::deep_copy(view, mirror);
   return view;
+}
+
+// A ragged device table named `label` holding `rows` in order, each converted element by
+// element.
+template <class T, class Host>
+RaggedTable<T> upload_ragged(const std::string& label, const std::vector<std::vector<Host>>& rows) {
+  std::vector<int> offsets{0};
+  std::vector<Host> flat;
+  for (const auto& row : rows) {
+    flat.insert(flat.end(), row.begin(), row.end());
+    offsets.push_back(int(flat.size()));
+  }
+  return RaggedTable<T>{upload<T>(label + "_values", flat),
+                        upload<int>(label + "_offsets", offsets)};
 }
 
 } // namespace kdem

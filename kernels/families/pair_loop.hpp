@@ -59,15 +59,15 @@ KOKKOS_INLINE_FUNCTION bool pair_is_flipped(const ShapeFamilies& shapes, const P
 
 // Stores what a narrow phase found: one contact point into the pair's one slot, several into its
 // slots by feature (PairSlots::apply_several).
-template <bool Rolling, int K>
+template <class Law, int K>
 KOKKOS_INLINE_FUNCTION void store_contacts(const PairSlots& slots, int k, const ParticleViews& p,
                                            int i, int j, const PairContacts<K>& found, bool flipped,
                                            const PairCoefficients& coefficients, double dt) {
   if constexpr (K == 1)
-    slots.template apply<Rolling>(k, p, i, j, found.contact[0].geometry,
-                                  found.contact[0].effective_radius, coefficients, dt);
+    slots.template apply<Law>(k, p, i, j, found.contact[0].geometry,
+                              found.contact[0].effective_radius, coefficients, dt);
   else
-    slots.template apply_several<Rolling, K>(k, p, i, j, found, flipped, coefficients, dt);
+    slots.template apply_several<Law, K>(k, p, i, j, found, flipped, coefficients, dt);
 }
 
 // The narrow phases without a prefilter evaluate every row of their type.
@@ -77,7 +77,7 @@ struct EveryRowOfTheType {
   }
 };
 
-template <class A, class B, bool Rolling>
+template <class A, class B, class Law>
 void compute_pair_type(const ContactContext& c, PairTypeRows& type_rows) {
   using Narrow = NarrowPhase<A, B>;
   static_assert(Narrow::max_contacts == pair_contact_points<A, B>,
@@ -110,8 +110,7 @@ void compute_pair_type(const ContactContext& c, PairTypeRows& type_rows) {
     if (flipped)
       for (int c = 0; c < found.count; ++c)
         found.contact[c].geometry.normal = -found.contact[c].geometry.normal;
-    store_contacts<Rolling>(slots, k, p, i, j, found, flipped, table(p.material(i), p.material(j)),
-                            dt);
+    store_contacts<Law>(slots, k, p, i, j, found, flipped, table(p.material(i), p.material(j)), dt);
   };
   const auto untallied = KOKKOS_LAMBDA(int s) {
     NarrowPhaseTally unused;
@@ -127,11 +126,11 @@ void compute_pair_type(const ContactContext& c, PairTypeRows& type_rows) {
 }
 
 // The one wall loop of a family: its wall-contact functor over its particles' wall candidates.
-template <class F, bool Rolling>
+template <class F, class Law>
 void compute_family_wall_contacts(const ContactContext& c, const RowSet& rows) {
   if (rows.count == 0)
     return;
-  compute_wall_contacts<Rolling>(
+  compute_wall_contacts<Law>(
       F::wall_label, c.particles, c.walls, c.wall_contacts, c.coefficients, c.dt, rows.count, rows,
       F::wall_contact(c.template table<F>(), c.shape_families, c.walls.elements, c.particles));
 }

@@ -17,9 +17,9 @@ using EngineFamilyRows = FamilyRows<Families>;
 // The typed kernels, declared here and instantiated once per pair type and per family in the
 // translation units of kernels/pairs/ (so that they compile in parallel, and the engine's own
 // translation unit compiles none of them).
-template <class A, class B, bool Rolling>
+template <class A, class B, class Law>
 void compute_pair_type(const ContactContext& c, PairTypeRows& rows);
-template <class F, bool Rolling>
+template <class F, class Law>
 void compute_family_wall_contacts(const ContactContext& c, const RowSet& rows);
 
 // Bit f set: some particle is of family f.

@@ -25,13 +25,15 @@ template <> struct NarrowPhase<SphereFamily, SphereFamily> : EveryRowOfTheType {
   }
 };
 
-template void compute_pair_type<SphereFamily, SphereFamily, false>(const ContactContext&,
+template void
+compute_pair_type<SphereFamily, SphereFamily, HertzMindlin<false>>(const ContactContext&,
                                                                    PairTypeRows&);
-template void compute_pair_type<SphereFamily, SphereFamily, true>(const ContactContext&,
+template void
+compute_pair_type<SphereFamily, SphereFamily, HertzMindlin<true>>(const ContactContext&,
                                                                   PairTypeRows&);
-template void compute_family_wall_contacts<SphereFamily, false>(const ContactContext&,
-                                                                const RowSet&);
-template void compute_family_wall_contacts<SphereFamily, true>(const ContactContext&,
-                                                               const RowSet&);
+template void compute_family_wall_contacts<SphereFamily, HertzMindlin<false>>(const ContactContext&,
+                                                                              const RowSet&);
+template void compute_family_wall_contacts<SphereFamily, HertzMindlin<true>>(const ContactContext&,
+                                                                             const RowSet&);
 
 } // namespace kdem

@@ -3,9 +3,11 @@
 
 namespace kdem {
 
-template void compute_pair_type<SphereFamily, SuperquadricFamily, false>(const ContactContext&,
+template void
+compute_pair_type<SphereFamily, SuperquadricFamily, HertzMindlin<false>>(const ContactContext&,
                                                                          PairTypeRows&);
-template void compute_pair_type<SphereFamily, SuperquadricFamily, true>(const ContactContext&,
+template void
+compute_pair_type<SphereFamily, SuperquadricFamily, HertzMindlin<true>>(const ContactContext&,
                                                                         PairTypeRows&);
 
 } // namespace kdem

@@ -3,10 +3,10 @@
 
 namespace kdem {
 
+template void compute_pair_type<SuperquadricFamily, SuperquadricFamily, HertzMindlin<false>>(
+    const ContactContext&, PairTypeRows&);
 template void
-compute_pair_type<SuperquadricFamily, SuperquadricFamily, false>(const ContactContext&,
-                                                                 PairTypeRows&);
-template void compute_pair_type<SuperquadricFamily, SuperquadricFamily, true>(const ContactContext&,
+compute_pair_type<SuperquadricFamily, SuperquadricFamily, HertzMindlin<true>>(const ContactContext&,
                                                                               PairTypeRows&);
 
 } // namespace kdem

@@ -3,9 +3,11 @@
 
 namespace kdem {
 
-template void compute_family_wall_contacts<SuperquadricFamily, false>(const ContactContext&,
+template void
+compute_family_wall_contacts<SuperquadricFamily, HertzMindlin<false>>(const ContactContext&,
                                                                       const RowSet&);
-template void compute_family_wall_contacts<SuperquadricFamily, true>(const ContactContext&,
+template void
+compute_family_wall_contacts<SuperquadricFamily, HertzMindlin<true>>(const ContactContext&,
                                                                      const RowSet&);
 
 } // namespace kdem

@@ -3,6 +3,7 @@
 // k of the scene's `shapes`), the particle's radius is its template's bounding radius, and
 // contacts come from the midway-point Newton narrow phase (pairs.hpp) and the deepest-point
 // wall contacts (walls.hpp).
+#include "../../shapes/oriented_box.hpp"
 #include "../../shapes/superquadric.hpp"
 #include "../../shapes/superquadric_contact.hpp"
 #include "../families/family_rows.hpp"
@@ -46,6 +47,11 @@ struct SuperquadricFamily {
                                                        const ParticleViews& p, int i) {
     return pose_superquadric(t.shapes(s.template_index(p.shape(i))), load3(p.position, i),
                              load_quat(p.orientation, i));
+  }
+
+  KOKKOS_INLINE_FUNCTION static OrientedBox oriented_box(const Table& t, const ShapeFamilies& s,
+                                                         const ParticleViews& p, int i) {
+    return oriented_box_of(pose(t, s, p, i));
   }
 
   // Host side (src/superquadric_setup.cpp): volume, inertia, bounding radius, output fields and

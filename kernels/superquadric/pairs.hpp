@@ -109,8 +109,9 @@ inline PairsToEvaluate superquadric_pairs_in_reach(const ParticleViews& p,
         // for them (the book's suggestion, Sect. 2.2.1); the narrow phase decides.
         if (near && overlap(contact_slots.first(k)) == 0) {
           int hint = axis(k);
-          near = bounding_boxes_overlap(SuperquadricFamily::pose(table, shapes, p, i),
-                                        SuperquadricFamily::pose(table, shapes, p, j), hint);
+          near =
+              oriented_boxes_overlap(SuperquadricFamily::oriented_box(table, shapes, p, i),
+                                     SuperquadricFamily::oriented_box(table, shapes, p, j), hint);
           axis(k) = hint;
         }
         passes(m) = near ? 1 : 0;

@@ -165,7 +165,7 @@ struct SlidingDumbbells {
     place();
     PairTypeRows rows;
     rows.rows = RowSet{1, true, {}};
-    compute_pair_type<DumbbellFamily, DumbbellFamily, false>(c, rows);
+    compute_pair_type<DumbbellFamily, DumbbellFamily, HertzMindlin<false>>(c, rows);
     const std::vector<double> f = flatten_to_host(list.force_on_i, 1);
     const Vec3 on_i{f[0], f[1], f[2]};
     const int i = flatten_to_host(list.pair_i, 1)[0];
@@ -319,8 +319,8 @@ TEST(ContactPoints, ParticleWallContactsAppearAndVanishPerFeature) {
     const double vz = n < 30 ? -speed : speed;
     p.position = from_host<Vec3View>("position", {x, 0, z}, 3);
     p.velocity = from_host<Vec3View>("velocity", {speed, 0, vz}, 3);
-    compute_wall_contacts<false>("kdem::test_dumbbell_wall", p, walls, list, table, dt, 1,
-                                 AllRows{}, DumbbellOnPlane{p});
+    compute_wall_contacts<HertzMindlin<false>>("kdem::test_dumbbell_wall", p, walls, list, table,
+                                               dt, 1, AllRows{}, DumbbellOnPlane{p});
     Vec3 expected;
     int touching = 0;
     const Vec3 along{std::cos(tilt), 0, -std::sin(tilt)};
