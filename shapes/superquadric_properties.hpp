@@ -66,6 +66,12 @@ inline double superquadric_bounding_radius(const SuperquadricShape& s) {
   return std::sqrt(squared) * (1.0 + bounding_radius_safety);
 }
 
+// A superquadric's body box is centred on it: half-extents (a, b, c) along its axes (what the
+// generic oriented_box_of gives, without its centre offset).
+KOKKOS_INLINE_FUNCTION OrientedBox oriented_box_of(const PosedSuperquadric& s) {
+  return OrientedBox{s.centre, s.rotation, Vec3{s.shape.a, s.shape.b, s.shape.c}};
+}
+
 // max over the bounding box of unit_direction . (x - centre): how far the box reaches along a
 // direction, e.g. towards a plane.
 KOKKOS_INLINE_FUNCTION double bounding_box_support(const PosedSuperquadric& s,

@@ -7,7 +7,7 @@
 #include <random>
 
 #include "shapes/oriented_box.hpp"
-#include "shapes/superquadric.hpp"
+#include "shapes/superquadric_properties.hpp"
 
 namespace kdem {
 namespace {
@@ -101,13 +101,19 @@ TEST(OrientedBox, ASuperquadricsBoxIsItsHalfAxesAboutItsCentre) {
   const SuperquadricShape shape = make_superquadric(1e-3, 2e-3, 3e-3, 4, 2);
   const PosedSuperquadric posed =
       pose_superquadric(shape, Vec3{0.1, 0.2, 0.3}, Quat{std::cos(0.2), std::sin(0.2), 0, 0});
-  const OrientedBox box = oriented_box_of(posed);
-  EXPECT_EQ(box.centre.x, 0.1);
-  EXPECT_EQ(box.centre.y, 0.2);
-  EXPECT_EQ(box.centre.z, 0.3);
-  EXPECT_EQ(box.half_extent.x, 1e-3);
-  EXPECT_EQ(box.half_extent.y, 2e-3);
-  EXPECT_EQ(box.half_extent.z, 3e-3);
+  // The superquadric's own overload and the generic one from its body box agree bit for bit.
+  for (const OrientedBox& box :
+       {oriented_box_of(posed), oriented_box_of<PosedSuperquadric>(posed)}) {
+    EXPECT_EQ(box.centre.x, 0.1);
+    EXPECT_EQ(box.centre.y, 0.2);
+    EXPECT_EQ(box.centre.z, 0.3);
+    EXPECT_EQ(box.half_extent.x, 1e-3);
+    EXPECT_EQ(box.half_extent.y, 2e-3);
+    EXPECT_EQ(box.half_extent.z, 3e-3);
+    for (int k = 0; k < 3; ++k)
+      for (int l = 0; l < 3; ++l)
+        EXPECT_EQ(box.rotation.m[k][l], posed.rotation.m[k][l]);
+  }
 }
 
 Vec3 box_point(const OrientedBox& b, Vec3 unit_cube_point) {
