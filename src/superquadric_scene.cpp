@@ -101,7 +101,7 @@ double signed_power(double t, double exponent) {
 // x = a c1^e1 c2^e2, y = b c1^e1 s2^e2, z = c s1^e1 with e1 = 2/n1, e2 = 2/n2.
 BodySurface superquadric_surface(Vec3d half_axes, double n1, double n2, int resolution) {
   const double e1 = 2.0 / n1, e2 = 2.0 / n2;
-  const auto [a, b, c] = half_axes;
+  const double a = half_axes[0], b = half_axes[1], c = half_axes[2];
   return latitude_longitude_surface(resolution, [&](double eta, double omega) {
     return std::array<double, 3>{
         a * signed_power(std::cos(eta), e1) * signed_power(std::cos(omega), e2),

@@ -3,6 +3,7 @@
 // with a small trait (see docs/architecture.md, "Adding a shape family"); the list of the
 // engine's families is written once, in registry.hpp, and everything indexed by family or by
 // pair type (index lists, kernels, counts) follows from it here.
+#include <Kokkos_Macros.hpp>
 #include <type_traits>
 #include <utility>
 
@@ -47,7 +48,8 @@ constexpr int pair_type_count(int n) {
   return n * (n + 1) / 2;
 }
 
-constexpr int pair_type_index(int a, int b, int n) {
+// Device-callable: the kernels that sort pairs by type call it.
+KOKKOS_INLINE_FUNCTION constexpr int pair_type_index(int a, int b, int n) {
   if (a > b) {
     const int t = a;
     a = b;

@@ -74,15 +74,15 @@ struct OffCentreBody {
   Vec3 centre;
   Mat3 rotation;
   BodyBox box;
-  Vec3 to_local(Vec3 x) const { return transpose(rotation) * (x - centre); }
-  Vec3 to_world(Vec3 local) const { return centre + rotation * local; }
-  template <bool H> ShapeFunction local(Vec3) const { return {}; }
-  template <bool H> ShapeFunction evaluate(Vec3) const { return {}; }
-  double smallest_length() const { return 0; }
-  double reach() const { return 0; }
-  double equivalent_radius() const { return 0; }
-  Vec3 support_local(Vec3) const { return {}; }
-  BodyBox local_box() const { return box; }
+  KOKKOS_INLINE_FUNCTION Vec3 to_local(Vec3 x) const { return transpose(rotation) * (x - centre); }
+  KOKKOS_INLINE_FUNCTION Vec3 to_world(Vec3 local) const { return centre + rotation * local; }
+  template <bool H> KOKKOS_INLINE_FUNCTION ShapeFunction local(Vec3) const { return {}; }
+  template <bool H> KOKKOS_INLINE_FUNCTION ShapeFunction evaluate(Vec3) const { return {}; }
+  KOKKOS_INLINE_FUNCTION double smallest_length() const { return 0; }
+  KOKKOS_INLINE_FUNCTION double reach() const { return 0; }
+  KOKKOS_INLINE_FUNCTION double equivalent_radius() const { return 0; }
+  KOKKOS_INLINE_FUNCTION Vec3 support_local(Vec3) const { return {}; }
+  KOKKOS_INLINE_FUNCTION BodyBox local_box() const { return box; }
 };
 
 TEST(OrientedBox, ABodyBoxOffItsCentreIsPlacedByThePose) {
