@@ -1,6 +1,5 @@
 #pragma once
 // The sphere family: radius per particle (shape id 0), no template data, closed-form contacts.
-#include "../../shapes/oriented_box.hpp"
 #include "../walls.hpp"
 #include "family_rows.hpp"
 
@@ -25,12 +24,6 @@ struct SphereFamily {
   KOKKOS_INLINE_FUNCTION static double equivalent_radius(const Table&, const ShapeFamilies&,
                                                          const ParticleViews& p, int i) {
     return p.radius(i);
-  }
-
-  KOKKOS_INLINE_FUNCTION static OrientedBox oriented_box(const Table&, const ShapeFamilies&,
-                                                         const ParticleViews& p, int i) {
-    const double r = p.radius(i);
-    return OrientedBox{load3(p.position, i), identity3(), Vec3{r, r, r}};
   }
 
   static SphereWallContact wall_contact(const Table&, const ShapeFamilies&,

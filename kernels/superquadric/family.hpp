@@ -3,9 +3,9 @@
 // k of the scene's `shapes`), the particle's radius is its template's bounding radius, and
 // contacts come from the midway-point Newton narrow phase (pairs.hpp) and the deepest-point
 // wall contacts (walls.hpp).
-#include "../../shapes/superquadric_properties.hpp"
 #include "../../shapes/superquadric.hpp"
 #include "../../shapes/superquadric_contact.hpp"
+#include "../../shapes/superquadric_properties.hpp"
 #include "../families/family_rows.hpp"
 #include "../families/host_hooks.hpp"
 #include "../walls.hpp"

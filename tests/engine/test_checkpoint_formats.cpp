@@ -13,6 +13,14 @@
 namespace kdem {
 namespace {
 
+// Overwrites the format number of an open checkpoint.
+void write_format(hid_t file, std::int64_t value) {
+  const hid_t format = H5Dopen2(file, "format", H5P_DEFAULT);
+  ASSERT_GE(format, 0);
+  EXPECT_GE(H5Dwrite(format, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, &value), 0);
+  H5Dclose(format);
+}
+
 // Turns a checkpoint of format 2 into one of format 1 in place.
 void downgrade_to_format_1(const std::string& path) {
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
@@ -22,11 +30,7 @@ void downgrade_to_format_1(const std::string& path) {
         "pairs/feature_j", "wall_contacts/contact_start", "wall_contacts/feature"})
     if (H5Lexists(file, added, H5P_DEFAULT) > 0)
       EXPECT_GE(H5Ldelete(file, added, H5P_DEFAULT), 0) << added;
-  const hid_t format = H5Dopen2(file, "format", H5P_DEFAULT);
-  ASSERT_GE(format, 0);
-  const std::int64_t one = 1;
-  EXPECT_GE(H5Dwrite(format, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, &one), 0);
-  H5Dclose(format);
+  write_format(file, 1);
   H5Fclose(file);
 }
 
@@ -64,10 +68,7 @@ TEST(CheckpointFormats, AnUnknownFormatIsRefused) {
   engine.write_checkpoint(path);
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
   ASSERT_GE(file, 0);
-  const hid_t format = H5Dopen2(file, "format", H5P_DEFAULT);
-  const std::int64_t nine = 9;
-  H5Dwrite(format, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, &nine);
-  H5Dclose(format);
+  write_format(file, 9);
   H5Fclose(file);
   Engine restarted(testing::cli_scene("small_hopper"));
   try {
