@@ -31,23 +31,40 @@ struct EnergySums {
   double translational = 0; // J
   double rotational = 0;    // J
   double potential = 0;     // J, gravitational, relative to the origin
+  double mechanical() const { return translational + rotational + potential; }
 };
 
+// Adds particle i's energies to the sums.
+KOKKOS_INLINE_FUNCTION void add_particle_energy(const ParticleViews& p, Vec3 gravity, int i,
+                                                double& translational, double& rotational,
+                                                double& potential) {
+  translational += 0.5 * p.mass(i) * norm2(load3(p.velocity, i));
+  const Vec3 body_omega = rotate_inverse(load_quat(p.orientation, i), load3(p.angular_velocity, i));
+  rotational += 0.5 * (p.inertia(i, 0) * body_omega.x * body_omega.x +
+                       p.inertia(i, 1) * body_omega.y * body_omega.y +
+                       p.inertia(i, 2) * body_omega.z * body_omega.z);
+  potential -= p.mass(i) * dot(gravity, load3(p.position, i));
+}
+
 inline EnergySums kinetic_and_potential_energy(const ParticleViews& p, Vec3 gravity) {
-  auto x = p.position, v = p.velocity, w = p.angular_velocity;
-  auto q = p.orientation;
-  auto mass = p.mass;
-  auto inertia = p.inertia;
   double translational = 0, rotational = 0, potential = 0;
   Kokkos::parallel_reduce(
       "kdem::energy", RangePolicy(0, p.count),
       KOKKOS_LAMBDA(int i, double& et, double& er, double& ep) {
-        et += 0.5 * mass(i) * norm2(load3(v, i));
-        const Vec3 body_omega = rotate_inverse(load_quat(q, i), load3(w, i));
-        er += 0.5 * (inertia(i, 0) * body_omega.x * body_omega.x +
-                     inertia(i, 1) * body_omega.y * body_omega.y +
-                     inertia(i, 2) * body_omega.z * body_omega.z);
-        ep -= mass(i) * dot(gravity, load3(x, i));
+        add_particle_energy(p, gravity, i, et, er, ep);
+      },
+      translational, rotational, potential);
+  return {translational, rotational, potential};
+}
+
+// The energies of the particles with keep(i) == 0 (those about to be removed).
+inline EnergySums energy_of_removed(const ParticleViews& p, Vec3 gravity, const IndexView& keep) {
+  double translational = 0, rotational = 0, potential = 0;
+  Kokkos::parallel_reduce(
+      "kdem::energy_of_removed", RangePolicy(0, p.count),
+      KOKKOS_LAMBDA(int i, double& et, double& er, double& ep) {
+        if (keep(i) == 0)
+          add_particle_energy(p, gravity, i, et, er, ep);
       },
       translational, rotational, potential);
   return {translational, rotational, potential};
@@ -123,17 +140,38 @@ struct OutletBox {
   double min[3], max[3];
 };
 
-// Marks particles whose centre lies in any outlet box (keep(i) = 0), returns how many and their
-// mass.
-inline int mark_discharged(const ParticleViews& p, const DeviceView<OutletBox*>& outlets,
-                           int outlet_count, IndexView& keep, double& discharged_mass) {
+// The box a particle must stay in: it has left once its centre lies farther than its radius
+// outside (it is then wholly outside).
+struct DomainBounds {
+  double min[3], max[3];
+  bool active = false;
+};
+
+KOKKOS_INLINE_FUNCTION bool wholly_outside(const DomainBounds& b, Vec3 x, double radius) {
+  return x.x < b.min[0] - radius || x.x > b.max[0] + radius || x.y < b.min[1] - radius ||
+         x.y > b.max[1] + radius || x.z < b.min[2] - radius || x.z > b.max[2] + radius;
+}
+
+struct Removals {
+  int discharged = 0;
+  double discharged_mass = 0; // kg
+  int lost = 0;               // left the domain
+  double lost_mass = 0;       // kg
+};
+
+// Marks for removal (keep(i) = 0) the particles whose centre lies in any outlet box
+// (discharged) and, where the bounds are active, those wholly outside them (lost: lost(i) = 1).
+inline Removals mark_removals(const ParticleViews& p, const DeviceView<OutletBox*>& outlets,
+                              int outlet_count, const DomainBounds& bounds, IndexView& keep,
+                              IndexView& lost) {
   auto x = p.position;
   auto mass = p.mass;
-  int removed = 0;
-  double removed_mass = 0;
+  auto radius = p.radius;
+  Removals r;
   Kokkos::parallel_reduce(
-      "kdem::outlets", RangePolicy(0, p.count),
-      KOKKOS_LAMBDA(int i, int& count, double& m) {
+      "kdem::removals", RangePolicy(0, p.count),
+      KOKKOS_LAMBDA(int i, int& discharged, double& discharged_mass, int& lost_count,
+                    double& lost_mass) {
         const Vec3 xi = load3(x, i);
         int inside = 0;
         for (int o = 0; o < outlet_count; ++o) {
@@ -142,14 +180,123 @@ inline int mark_discharged(const ParticleViews& p, const DeviceView<OutletBox*>&
               xi.z >= b.min[2] && xi.z <= b.max[2])
             inside = 1;
         }
-        keep(i) = 1 - inside;
-        count += inside;
+        const int left = !inside && bounds.active && wholly_outside(bounds, xi, radius(i)) ? 1 : 0;
+        keep(i) = 1 - inside - left;
+        lost(i) = left;
+        discharged += inside;
+        lost_count += left;
         if (inside)
-          m += mass(i);
+          discharged_mass += mass(i);
+        if (left)
+          lost_mass += mass(i);
       },
-      removed, removed_mass);
-  discharged_mass = removed_mass;
-  return removed;
+      r.discharged, r.discharged_mass, r.lost, r.lost_mass);
+  return r;
+}
+
+// flag(i) = 1 where particle i is wholly outside the bounds; returns how many.
+inline int mark_outside(const ParticleViews& p, const DomainBounds& bounds, IndexView& flag) {
+  auto x = p.position;
+  auto radius = p.radius;
+  int outside = 0;
+  Kokkos::parallel_reduce(
+      "kdem::outside_domain", RangePolicy(0, p.count),
+      KOKKOS_LAMBDA(int i, int& count) {
+        flag(i) = wholly_outside(bounds, load3(x, i), radius(i)) ? 1 : 0;
+        count += flag(i);
+      },
+      outside);
+  return outside;
+}
+
+KOKKOS_INLINE_FUNCTION bool finite3(Vec3 a) {
+  return math::isfinite(a.x) && math::isfinite(a.y) && math::isfinite(a.z);
+}
+
+// flag(i) = 1 where particle i has a position, velocity, angular velocity or orientation that is
+// not finite; returns how many.
+inline int mark_non_finite(const ParticleViews& p, IndexView& flag) {
+  int bad = 0;
+  Kokkos::parallel_reduce(
+      "kdem::non_finite", RangePolicy(0, p.count),
+      KOKKOS_LAMBDA(int i, int& count) {
+        const Quat q = load_quat(p.orientation, i);
+        const bool finite = finite3(load3(p.position, i)) && finite3(load3(p.velocity, i)) &&
+                            finite3(load3(p.angular_velocity, i)) && finite3(Vec3{q.x, q.y, q.z}) &&
+                            math::isfinite(q.w);
+        flag(i) = finite ? 0 : 1;
+        count += flag(i);
+      },
+      bad);
+  return bad;
+}
+
+using ValueAndIndex = Kokkos::MaxLoc<double, int>::value_type;
+
+// The deepest pair contact relative to the smaller radius of its pair: ratio and pair index
+// (-1: no contact).
+inline ValueAndIndex deepest_pair_contact(const ParticleViews& p, const PairList& list) {
+  auto overlap = list.overlap;
+  auto pair_i = list.pair_i, pair_j = list.pair_j;
+  const ContactSlots slots = list.slots();
+  auto radius = p.radius;
+  ValueAndIndex deepest;
+  deepest.val = 0;
+  deepest.loc = -1;
+  Kokkos::parallel_reduce(
+      "kdem::deepest_pair_contact", RangePolicy(0, list.pair_count),
+      KOKKOS_LAMBDA(int k, ValueAndIndex& best) {
+        for (int s = slots.first(k); s < slots.end(k); ++s) {
+          const double ratio = overlap(s) / math::min(radius(pair_i(k)), radius(pair_j(k)));
+          if (overlap(s) > 0 && ratio > best.val)
+            best.val = ratio, best.loc = k;
+        }
+      },
+      Kokkos::MaxLoc<double, int>(deepest));
+  if (!(deepest.val > 0))
+    deepest.loc = -1;
+  return deepest;
+}
+
+// The deepest wall contact relative to its particle's radius: ratio and candidate entry (-1:
+// none).
+inline ValueAndIndex deepest_wall_contact(const ParticleViews& p, const WallContactList& list) {
+  auto overlap = list.overlap;
+  auto row_start = list.row_start;
+  const ContactSlots slots = list.slots();
+  auto radius = p.radius;
+  ValueAndIndex deepest;
+  deepest.val = 0;
+  deepest.loc = -1;
+  Kokkos::parallel_reduce(
+      "kdem::deepest_wall_contact", RangePolicy(0, p.count),
+      KOKKOS_LAMBDA(int i, ValueAndIndex& best) {
+        for (int k = row_start(i); k < row_start(i + 1); ++k)
+          for (int s = slots.first(k); s < slots.end(k); ++s)
+            if (overlap(s) > 0 && overlap(s) / radius(i) > best.val)
+              best.val = overlap(s) / radius(i), best.loc = k;
+      },
+      Kokkos::MaxLoc<double, int>(deepest));
+  if (!(deepest.val > 0))
+    deepest.loc = -1;
+  return deepest;
+}
+
+// The fastest particle: its speed squared and index.
+inline ValueAndIndex fastest_particle(const ParticleViews& p) {
+  auto v = p.velocity;
+  ValueAndIndex fastest;
+  fastest.val = 0;
+  fastest.loc = -1;
+  Kokkos::parallel_reduce(
+      "kdem::fastest_particle", RangePolicy(0, p.count),
+      KOKKOS_LAMBDA(int i, ValueAndIndex& best) {
+        const double speed2 = norm2(load3(v, i));
+        if (speed2 > best.val)
+          best.val = speed2, best.loc = i;
+      },
+      Kokkos::MaxLoc<double, int>(fastest));
+  return fastest;
 }
 
 // Indices of the kept particles, in order.
@@ -162,6 +309,57 @@ inline IndexView kept_indices(const IndexView& keep, int& kept) {
           source(offsets(i)) = i;
       });
   return source;
+}
+
+// The rows of the first `most` particles with flag(i) = 1, in row order.
+inline IndexView first_flagged_rows(const IndexView& flag, int most) {
+  int flagged = 0;
+  const IndexView rows = kept_indices(flag, flagged);
+  IndexView first("first_flagged_rows", flagged < most ? flagged : most);
+  Kokkos::deep_copy(first, Kokkos::subview(rows, std::make_pair(0, int(first.extent(0)))));
+  return first;
+}
+
+// Particle i's row with the wall-list entry k among its entries.
+inline int particle_of_wall_entry(const WallContactList& list, int particle_count, int k) {
+  auto row_start = list.row_start;
+  int row = -1;
+  Kokkos::parallel_reduce(
+      "kdem::particle_of_wall_entry", RangePolicy(0, particle_count),
+      KOKKOS_LAMBDA(int i, int& found) {
+        if (row_start(i) <= k && k < row_start(i + 1))
+          found = i;
+      },
+      Kokkos::Max<int>(row));
+  return row;
+}
+
+// Id, shape, position and velocity of the particles at `rows`, in that order.
+inline ParticleViews gathered_rows(const ParticleViews& p, const IndexView& rows) {
+  ParticleViews g;
+  g.count = int(rows.extent(0));
+  g.id = IdView("gathered_id", g.count);
+  g.shape = IndexView("gathered_shape", g.count);
+  g.position = Vec3View("gathered_position", g.count);
+  g.velocity = Vec3View("gathered_velocity", g.count);
+  Kokkos::parallel_for(
+      "kdem::gather_rows", RangePolicy(0, g.count), KOKKOS_LAMBDA(int m) {
+        const int i = rows(m);
+        g.id(m) = p.id(i);
+        g.shape(m) = p.shape(i);
+        for (int c = 0; c < 3; ++c)
+          g.position(m, c) = p.position(i, c), g.velocity(m, c) = p.velocity(i, c);
+      });
+  return g;
+}
+
+inline double total_mass(const ParticleViews& p) {
+  auto mass = p.mass;
+  double sum = 0;
+  Kokkos::parallel_reduce(
+      "kdem::total_mass", RangePolicy(0, p.count),
+      KOKKOS_LAMBDA(int i, double& m) { m += mass(i); }, sum);
+  return sum;
 }
 
 } // namespace kdem

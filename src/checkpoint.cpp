@@ -103,6 +103,10 @@ void Engine::write_checkpoint(const std::string& path) const {
   out.write_scalar("needs_rebuild", std::int64_t(s.needs_rebuild));
   out.write_scalar("discharged_mass", s.discharged_mass);
   out.write_scalar("discharged_count", std::int64_t(s.discharged_count));
+  out.write_scalar("lost_mass", s.lost_mass);
+  out.write_scalar("lost_count", std::int64_t(s.lost_count));
+  out.write_scalar("energy_budget", s.energy_budget);
+  out.write_scalar("initial_overlap_ratio", s.initial_overlap_ratio);
   out.write_scalar("pair_count", std::int64_t(s.pairs.pair_count));
   out.write_scalar("wall_entry_count", std::int64_t(s.wall_contacts.entry_count));
   for (std::size_t k = 0; k < s.sources.size(); ++k) {
@@ -152,6 +156,15 @@ void Engine::read_checkpoint(const std::string& path) {
   s.needs_rebuild = in.read_scalar_int64("needs_rebuild") != 0;
   s.discharged_mass = in.read_scalar_double("discharged_mass");
   s.discharged_count = in.read_scalar_int64("discharged_count");
+  // Checkpoints written before the run checks existed lack these: nothing was lost, and the
+  // energy budget starts from the restart's state (set after the particles are read).
+  s.lost_mass = in.has("lost_mass") ? in.read_scalar_double("lost_mass") : 0;
+  s.lost_count = in.has("lost_count") ? in.read_scalar_int64("lost_count") : 0;
+  const bool has_energy_budget = in.has("energy_budget");
+  if (has_energy_budget) {
+    s.energy_budget = in.read_scalar_double("energy_budget");
+    s.initial_overlap_ratio = in.read_scalar_double("initial_overlap_ratio");
+  }
   for (std::size_t k = 0; k < s.sources.size(); ++k) {
     const std::string group = "sources/" + std::to_string(k) + "/";
     require(in.has(group + "rng"), "particle sources differ");
@@ -183,6 +196,8 @@ void Engine::read_checkpoint(const std::string& path) {
   s.families_present |= present_families(s.particles, s.shape_families);
   s.classify_families(s.pairs);
   update_wall_poses(s.walls, s.time);
+  if (!has_energy_budget)
+    s.start_energy_budget();
 }
 
 } // namespace kdem

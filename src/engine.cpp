@@ -51,6 +51,37 @@ PairCoefficients coefficients_for(const MaterialConfig& a, const MaterialConfig&
   return c;
 }
 
+WallMotion motion_of(const WallMotionData& m) {
+  WallMotion d;
+  d.pivot = to_vec3(m.pivot);
+  d.velocity = to_vec3(m.velocity);
+  d.omega = to_vec3(m.omega);
+  d.start = m.start;
+  d.active_from = m.active_from;
+  d.active_until = m.active_until;
+  return d;
+}
+
+Vec3 geometry_point(const std::array<double, 9>& g, int first) {
+  return {g[first], g[first + 1], g[first + 2]};
+}
+
+// Whether a sphere at reference-frame centre p touches or reaches through element g: behind or
+// within r of a plane, outside or within r of a cylinder's surface along its length, within r of
+// a triangle.
+bool sphere_crosses_element(int kind, const std::array<double, 9>& g, Vec3 p, double r) {
+  if (kind == plane_element)
+    return plane_query(geometry_point(g, 0), geometry_point(g, 3), p).signed_distance < r;
+  if (kind == cylinder_element) {
+    double along = 0;
+    const SurfaceQuery q =
+        cylinder_inside_query(geometry_point(g, 0), geometry_point(g, 3), g[6], p, along);
+    return along >= -r && along <= g[7] + r && q.signed_distance < r;
+  }
+  return triangle_query(geometry_point(g, 0), geometry_point(g, 3), geometry_point(g, 6), p)
+             .signed_distance < r;
+}
+
 } // namespace
 
 Engine::Engine(const SceneConfig& scene) : state_(std::make_unique<State>()) {
@@ -63,8 +94,10 @@ Engine::Engine(const SceneConfig& scene) : state_(std::make_unique<State>()) {
   s.setup_domain();
   s.setup_walls();
   s.setup_outlets();
+  s.setup_leaving_bounds();
   s.setup_sources();
   s.compute_forces_at_current_state();
+  s.start_energy_budget();
 }
 
 Engine::~Engine() = default;
@@ -165,13 +198,7 @@ void Engine::State::setup_walls() {
   el.vertex_ring = upload<Vec3>("wall_vertex_ring", ring);
   std::vector<WallMotion> device_motions;
   for (const WallMotionData& m : motions) {
-    WallMotion d;
-    d.pivot = to_vec3(m.pivot);
-    d.velocity = to_vec3(m.velocity);
-    d.omega = to_vec3(m.omega);
-    d.start = m.start;
-    d.active_from = m.active_from;
-    d.active_until = m.active_until;
+    WallMotion d = motion_of(m);
     d.material = material_index(m.material);
     device_motions.push_back(d);
   }
@@ -190,6 +217,37 @@ void Engine::State::setup_outlets() {
   }
   outlet_count = int(boxes.size());
   outlets = upload<OutletBox>("outlets", boxes);
+}
+
+// With a `domain`, particles must stay in it; without one, in the box of the walls, plane points,
+// particle regions and outlets grown by half its largest side on every side (the neighbour
+// grid's derived domain is tight, and particles may rest just outside it, on a plane).
+void Engine::State::setup_leaving_bounds() {
+  Vec3d lo = domain_min, hi = domain_max;
+  if (!scene.has_domain) {
+    auto include = [&](const Vec3d& a, const Vec3d& b) {
+      for (int k = 0; k < 3; ++k)
+        lo[k] = std::min(lo[k], a[k]), hi[k] = std::max(hi[k], b[k]);
+    };
+    for (const OutletConfig& o : scene.outlets)
+      include(o.min, o.max);
+    for (const WallConfig& w : scene.walls)
+      if (w.kind == WallConfig::Kind::Plane)
+        include(w.point, w.point);
+    const double margin = 0.5 * std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+    for (int k = 0; k < 3; ++k)
+      lo[k] -= margin, hi[k] += margin;
+  }
+  for (int k = 0; k < 3; ++k)
+    leaving_bounds.min[k] = lo[k], leaving_bounds.max[k] = hi[k];
+  leaving_bounds.active = scene.checks.leaving_domain == ChecksConfig::Leaving::Remove;
+}
+
+void Engine::State::start_energy_budget() {
+  energy_budget = kinetic_and_potential_energy(particles, gravity).mechanical();
+  initial_overlap_ratio =
+      std::max(pair_contact_statistics(particles, pairs).largest_overlap_ratio,
+               wall_contact_statistics(particles, wall_contacts).largest_overlap_ratio);
 }
 
 // The index of `tag` in tag_names, adding it when new; -1 for no tag.
@@ -239,11 +297,31 @@ Obstacles Engine::State::current_obstacles() const {
   const std::vector<double> radius = flatten_to_host(particles.radius, particles.count);
   Kokkos::Profiling::popRegion();
   Obstacles obstacles;
+  obstacles.crosses_wall = [this](const Vec3d& centre, double r) {
+    return sphere_crosses_wall(centre, r);
+  };
   obstacles.radii = radius;
   obstacles.centres.reserve(radius.size());
   for (std::size_t i = 0; i < radius.size(); ++i)
     obstacles.centres.push_back({position[3 * i], position[3 * i + 1], position[3 * i + 2]});
   return obstacles;
+}
+
+// Against every wall active now, at its pose now. Host code: insertion is input (see
+// docs/architecture.md); it tests every element of every wall.
+bool Engine::State::sphere_crosses_wall(const Vec3d& centre, double r) const {
+  std::vector<WallPose> poses;
+  for (const WallMotionData& m : motions)
+    poses.push_back(wall_pose_at(motion_of(m), time));
+  const Vec3 world = to_vec3(centre);
+  for (std::size_t e = 0; e < table.kind.size(); ++e) {
+    const int w = table.wall[e];
+    if (time < motions[w].active_from || time >= motions[w].active_until)
+      continue;
+    if (sphere_crosses_element(table.kind[e], table.geometry[e], poses[w].to_reference(world), r))
+      return true;
+  }
+  return false;
 }
 
 void Engine::State::append_seeds(const std::vector<ParticleSeed>& seeds, int source) {
@@ -279,6 +357,7 @@ void Engine::State::append_particles(const std::vector<ParticleInit>& added) {
   Kokkos::Profiling::pushRegion("kdem::input");
   const ParticleViews fresh = upload_new_particles(added);
   Kokkos::Profiling::popRegion();
+  energy_budget += kinetic_and_potential_energy(fresh, gravity).mechanical();
   const int old_count = particles.count;
   ParticleViews grown;
   grown.allocate(old_count + fresh.count);
@@ -370,21 +449,26 @@ double Engine::State::effective_skin() const {
                         (smallest_radius < 1e300 ? smallest_radius : largest_radius);
 }
 
-// Conservative bound on how far any wall surface point has moved since the lists were built.
-double Engine::State::wall_travel_since_build() const {
-  const double elapsed = time - last_build_time;
-  double travel = 0;
+// Fastest speed of any point of a wall within the domain: its translation plus its spin times
+// the domain's diagonal.
+double Engine::State::wall_surface_speed(const WallMotionData& m) const {
   const Vec3d extent{domain_max[0] - domain_min[0], domain_max[1] - domain_min[1],
                      domain_max[2] - domain_min[2]};
   const double reach =
       std::sqrt(extent[0] * extent[0] + extent[1] * extent[1] + extent[2] * extent[2]);
-  for (const WallMotionData& m : motions) {
-    const double speed = std::sqrt(m.velocity[0] * m.velocity[0] + m.velocity[1] * m.velocity[1] +
-                                   m.velocity[2] * m.velocity[2]);
-    const double spin =
-        std::sqrt(m.omega[0] * m.omega[0] + m.omega[1] * m.omega[1] + m.omega[2] * m.omega[2]);
-    travel = std::max(travel, (speed + spin * reach) * elapsed);
-  }
+  const double speed = std::sqrt(m.velocity[0] * m.velocity[0] + m.velocity[1] * m.velocity[1] +
+                                 m.velocity[2] * m.velocity[2]);
+  const double spin =
+      std::sqrt(m.omega[0] * m.omega[0] + m.omega[1] * m.omega[1] + m.omega[2] * m.omega[2]);
+  return speed + spin * reach;
+}
+
+// Conservative bound on how far any wall surface point has moved since the lists were built.
+double Engine::State::wall_travel_since_build() const {
+  const double elapsed = time - last_build_time;
+  double travel = 0;
+  for (const WallMotionData& m : motions)
+    travel = std::max(travel, wall_surface_speed(m) * elapsed);
   return travel;
 }
 
@@ -507,19 +591,27 @@ void Engine::State::insert_due_particles() {
   }
 }
 
-void Engine::State::remove_discharged_particles() {
-  if (outlet_count == 0 || particles.count == 0)
+// Outlets and the domain's bounds: removed particles are counted, and their energy leaves the
+// budget.
+void Engine::State::remove_departed_particles() {
+  if ((outlet_count == 0 && !leaving_bounds.active) || particles.count == 0)
     return;
   IndexView keep("keep", particles.count);
-  double removed_mass = 0;
-  const int removed = mark_discharged(particles, outlets, outlet_count, keep, removed_mass);
-  if (removed == 0)
+  IndexView lost("lost", particles.count);
+  const Removals removed =
+      mark_removals(particles, outlets, outlet_count, leaving_bounds, keep, lost);
+  if (removed.discharged + removed.lost == 0)
     return;
+  if (removed.lost > 0)
+    latest_lost_ids = ids_of_flagged(lost, 5);
+  energy_budget -= energy_of_removed(particles, gravity, keep).mechanical();
   int kept = 0;
   const IndexView source = kept_indices(keep, kept);
   permute_particles(particles, source, kept);
-  discharged_mass += removed_mass;
-  discharged_count += removed;
+  discharged_mass += removed.discharged_mass;
+  discharged_count += removed.discharged;
+  lost_mass += removed.lost_mass;
+  lost_count += removed.lost;
   needs_rebuild = true;
 }
 
@@ -535,7 +627,7 @@ void Engine::State::step() {
   time = double(step_count + 1) * dt;
   insert_due_particles();
   if ((step_count + 1) % outlet_check_interval == 0)
-    remove_discharged_particles();
+    remove_departed_particles();
   compute_forces_at_current_state();
   if (rigid_rotation())
     kick_rigid(particles, dt);
@@ -600,6 +692,8 @@ Diagnostics Engine::diagnostics() const {
   d.largest_overlap_ratio = std::max(pair.largest_overlap_ratio, wall.largest_overlap_ratio);
   d.discharged_mass = s.discharged_mass;
   d.discharged_count = s.discharged_count;
+  d.lost_mass = s.lost_mass;
+  d.lost_count = s.lost_count;
   d.list_builds = s.list_builds;
   d.particles_per_source = count_by_label(s.particles, s.particles.source, int(s.sources.size()));
   d.particles_per_tag = count_by_label(s.particles, s.particles.tag, int(s.tag_names.size()));
@@ -665,13 +759,7 @@ std::vector<WallSurface> Engine::wall_surfaces() const {
   const State& s = *state_;
   std::vector<WallSurface> surfaces;
   for (std::size_t w = 0; w < s.scene.walls.size(); ++w) {
-    const WallMotionData& m = s.motions[w];
-    WallMotion motion;
-    motion.pivot = to_vec3(m.pivot);
-    motion.velocity = to_vec3(m.velocity);
-    motion.omega = to_vec3(m.omega);
-    motion.start = m.start;
-    const WallPose pose = wall_pose_at(motion, s.time);
+    const WallPose pose = wall_pose_at(motion_of(s.motions[w]), s.time);
     WallSurface surface;
     surface.name = s.scene.walls[w].name;
     const std::vector<double>& ref = s.table.surface_points[w];
@@ -685,15 +773,41 @@ std::vector<WallSurface> Engine::wall_surfaces() const {
   return surfaces;
 }
 
-// Rayleigh time (Li et al. 2005): pi r sqrt(rho / G) / (0.1631 nu + 0.8766); Hertz duration of a
-// head-on impact of two equal spheres (Johnson 1985): 2.87 (m*^2 / (R* E*^2 v))^(1/5).
-// The 20 % and 10 % factors are the usual limits (LIGGGHTS checks the same two).
-TimeStepAdvice Engine::time_step_advice() const {
-  const State& s = *state_;
-  TimeStepAdvice advice;
-  double r = s.smallest_radius < 1e300 ? s.smallest_radius : s.largest_radius;
-  for (const ShapeTemplate& t : s.shape_templates) // not the bounding radius of a shaped body
+// The radius the time step is sized for: the smallest particle's (of a shaped body, that of the
+// sphere of equal volume, not its bounding radius); 0 when the scene has no particles yet.
+double Engine::State::time_step_radius() const {
+  double r = smallest_radius < 1e300 ? smallest_radius : largest_radius;
+  for (const ShapeTemplate& t : shape_templates)
     r = std::min(r, t.equivalent_radius);
+  return r > 0 ? r : 0;
+}
+
+// Hertz duration of a head-on impact of two equal spheres of the smallest radius at `speed`
+// (Johnson 1985): 2.87 (m*^2 / (R* E*^2 v))^(1/5), the shortest over the materials.
+double Engine::State::hertz_time_at(double speed) const {
+  const double r = time_step_radius();
+  double shortest = 1e300;
+  for (const MaterialConfig& m : scene.materials) {
+    const double mass = m.density * sphere_volume(r);
+    const double m_eff = 0.5 * mass, r_eff = 0.5 * r;
+    const double e_eff = m.youngs_modulus / (2 * (1 - m.poisson_ratio * m.poisson_ratio));
+    shortest =
+        std::min(shortest, 2.87 * std::pow(m_eff * m_eff / (r_eff * e_eff * e_eff * speed), 0.2));
+  }
+  return shortest;
+}
+
+// Rayleigh time (Li et al. 2005): pi r sqrt(rho / G) / (0.1631 nu + 0.8766), and the Hertz
+// duration at the reference speed. The 20 % and 10 % factors are the usual limits (LIGGGHTS
+// checks the same two).
+TimeStepAdvice Engine::time_step_advice() const {
+  return state_->time_step_advice();
+}
+
+TimeStepAdvice Engine::State::time_step_advice() const {
+  const State& s = *this;
+  TimeStepAdvice advice;
+  const double r = s.time_step_radius();
   if (!(r > 0))
     return advice;
   double height = s.domain_max[2] - s.domain_min[2];
@@ -704,18 +818,12 @@ TimeStepAdvice Engine::time_step_advice() const {
                  std::sqrt(src.velocity[0] * src.velocity[0] + src.velocity[1] * src.velocity[1] +
                            src.velocity[2] * src.velocity[2]));
   advice.rayleigh = 1e300;
-  advice.hertz = 1e300;
   for (const MaterialConfig& m : s.scene.materials) {
     const double shear = m.youngs_modulus / (2 * (1 + m.poisson_ratio));
     advice.rayleigh = std::min(advice.rayleigh, pi * r * std::sqrt(m.density / shear) /
                                                     (0.1631 * m.poisson_ratio + 0.8766));
-    const double mass = m.density * sphere_volume(r);
-    const double m_eff = 0.5 * mass, r_eff = 0.5 * r;
-    const double e_eff = m.youngs_modulus / (2 * (1 - m.poisson_ratio * m.poisson_ratio));
-    advice.hertz = std::min(
-        advice.hertz,
-        2.87 * std::pow(m_eff * m_eff / (r_eff * e_eff * e_eff * advice.reference_speed), 0.2));
   }
+  advice.hertz = s.hertz_time_at(advice.reference_speed);
   advice.suggested = std::min(0.2 * advice.rayleigh, 0.1 * advice.hertz);
   return advice;
 }

@@ -45,6 +45,8 @@ struct Diagnostics {
   double largest_overlap_ratio = 0; // overlap / radius, largest in the current step
   double discharged_mass = 0;       // kg, removed by outlets so far
   std::int64_t discharged_count = 0;
+  double lost_mass = 0; // kg, removed on leaving the domain so far
+  std::int64_t lost_count = 0;
   std::int64_t list_builds = 0;
   std::vector<std::int64_t> particles_per_source; // in the order of Engine::source_names()
   std::vector<std::int64_t> particles_per_tag;    // in the order of Engine::tag_names()
@@ -55,6 +57,24 @@ struct TimeStepAdvice {
   double hertz = 0;           // s, Hertz contact duration at the reference impact speed
   double suggested = 0;       // s, min(0.2 rayleigh, 0.1 hertz)
   double reference_speed = 0; // m/s
+};
+
+// A particle named in a failed check.
+struct ParticleReport {
+  std::int64_t id = 0;
+  std::string shape; // "sphere", or the scene shape's name and family
+  Vec3d position{0, 0, 0};
+  Vec3d velocity{0, 0, 0};
+};
+
+// The outcome of Engine::check_health: healthy, or what went wrong, where, and why it may have.
+struct HealthReport {
+  std::string trigger;                   // empty: healthy; else non_finite, overlap, energy,
+                                         // left_domain
+  std::string finding;                   // what was measured, against which limit
+  std::vector<ParticleReport> particles; // the first few involved
+  std::vector<std::string> likely_causes;
+  bool healthy() const { return trigger.empty(); }
 };
 
 class Engine {
@@ -81,6 +101,13 @@ public:
   TimeStepAdvice time_step_advice() const;
 
   Diagnostics diagnostics() const;
+  // The checks of the scene's `checks` (docs/scene.md): non-finite state, overlap, kinetic
+  // energy against its bound, particles outside the domain where the scene stops on them.
+  HealthReport check_health() const;
+  // Particles removed on leaving the domain so far, and the ids (at most 5) of the latest
+  // removal that lost any.
+  std::int64_t lost_count() const;
+  std::vector<std::int64_t> latest_lost_ids() const;
   NarrowPhaseTotals narrow_phase_totals() const;
   int shape_id(const std::string& shape_name) const; // for add_particles
   ParticleSnapshot snapshot() const;

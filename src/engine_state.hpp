@@ -103,6 +103,14 @@ struct Engine::State {
   std::int64_t list_builds = 0;
   double discharged_mass = 0;
   std::int64_t discharged_count = 0;
+  DomainBounds leaving_bounds; // active: particles wholly outside are removed (lost)
+  double lost_mass = 0;
+  std::int64_t lost_count = 0;
+  std::vector<std::int64_t> latest_lost_ids;
+  // J: the mechanical energy the particles may hold without a work source: at the start, plus
+  // that of particles inserted, less that of particles removed. Checked by check_health.
+  double energy_budget = 0;
+  double initial_overlap_ratio = 0; // largest overlap / radius after setup
 
   void setup_materials();
   void setup_shapes();
@@ -111,15 +119,19 @@ struct Engine::State {
   void setup_domain();
   void setup_walls();
   void setup_outlets();
+  void setup_leaving_bounds();
+  void start_energy_budget();
   void setup_sources();
   int material_index(const std::string& name) const;
 
   Obstacles current_obstacles() const;
+  bool sphere_crosses_wall(const Vec3d& centre, double r) const;
   void append_seeds(const std::vector<ParticleSeed>& seeds, int source);
   void append_particles(const std::vector<ParticleInit>& added);
   ParticleViews upload_new_particles(const std::vector<ParticleInit>& added);
 
   double effective_skin() const;
+  double wall_surface_speed(const WallMotionData& m) const;
   double wall_travel_since_build() const;
   bool lists_are_stale() const;
   void rebuild_lists();
@@ -131,7 +143,16 @@ struct Engine::State {
   void compute_forces();
   void compute_forces_at_current_state();
   void insert_due_particles();
-  void remove_discharged_particles();
+  void remove_departed_particles();
+  std::vector<std::int64_t> ids_of_flagged(const IndexView& flag, int most) const;
+  HealthReport check_overlaps() const;
+  HealthReport check_energy() const;
+  std::vector<std::string> likely_causes(const std::string& trigger) const;
+  std::vector<ParticleReport> reports_of(const std::vector<int>& rows) const;
+  TimeStepAdvice time_step_advice() const;
+  HealthReport check_health() const;
+  double time_step_radius() const;
+  double hertz_time_at(double speed) const;
   void step();
   ParticleSnapshot make_snapshot() const;
   std::vector<std::string> source_names() const;

@@ -457,8 +457,9 @@ class SequentialPlacer {
 public:
   SequentialPlacer(const ParticleSourceConfig& source, double largest_new_radius,
                    double expected_new_count, const std::vector<Sphere>& obstacles,
-                   std::mt19937_64& rng, int max_failed_attempts)
-      : source_(source), rng_(rng), max_failed_attempts_(max_failed_attempts),
+                   const Obstacles& all_obstacles, std::mt19937_64& rng, int max_failed_attempts)
+      : source_(source), crosses_wall_(all_obstacles.crosses_wall), rng_(rng),
+        max_failed_attempts_(max_failed_attempts),
         particle_grid_(make_particle_grid(region_bounds(source.region), largest_new_radius,
                                           expected_new_count, obstacles)),
         large_obstacle_grid_(make_large_obstacle_grid(region_bounds(source.region),
@@ -483,7 +484,8 @@ private:
     for (int attempt = 0; attempt < max_failed_attempts_; ++attempt) {
       const Vec3d centre = draw_centre_in_region(source_.region, radius, rng_);
       if (!particle_grid_.overlaps_any(centre, radius) &&
-          !large_obstacle_grid_.overlaps_any(centre, radius))
+          !large_obstacle_grid_.overlaps_any(centre, radius) &&
+          !(crosses_wall_ && crosses_wall_(centre, radius)))
         return centre;
     }
     return std::nullopt;
@@ -502,6 +504,7 @@ private:
   }
 
   const ParticleSourceConfig& source_;
+  const std::function<bool(const Vec3d&, double)>& crosses_wall_;
   std::mt19937_64& rng_;
   int max_failed_attempts_;
   SphereGrid particle_grid_;
@@ -580,14 +583,14 @@ std::vector<ParticleSeed> generate_particles(const ParticleSourceConfig& source,
   if (source.volume_fraction > 0) {
     const std::vector<double> radii = draw_radii_for_volume(source, max_new, rng);
     SequentialPlacer placer(source, largest_new_radius, static_cast<double>(radii.size()),
-                            obstacles_near, rng, max_failed_attempts);
+                            obstacles_near, obstacles, rng, max_failed_attempts);
     for (double radius : radii)
       if (!placer.place(radius))
         break;
     return placer.take_placed();
   }
   SequentialPlacer placer(source, largest_new_radius, most_that_could_fit(source, max_new),
-                          obstacles_near, rng, max_failed_attempts);
+                          obstacles_near, obstacles, rng, max_failed_attempts);
   for (std::int64_t index = 0; index < max_new; ++index)
     if (!placer.place(draw_radius(source.sizes, rng)))
       break;

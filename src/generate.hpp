@@ -1,6 +1,7 @@
 #pragma once
 // Particle generation: sizes from a distribution, positions in a region without overlaps.
 #include <cstdint>
+#include <functional>
 #include <random>
 #include <vector>
 
@@ -16,16 +17,19 @@ struct ParticleSeed {
   double radius = 0;
 };
 
-// Spheres already in the scene that new particles must not overlap.
+// Spheres already in the scene that new particles must not overlap, and the walls they must not
+// cross.
 struct Obstacles {
   std::vector<Vec3d> centres;
   std::vector<double> radii;
+  // Whether a sphere would touch or reach through a wall's surface; empty: no walls.
+  std::function<bool(const Vec3d& centre, double radius)> crosses_wall;
 };
 
 // Places up to `max_new` particles of `source` (random sequential addition) in its region, each
-// entirely inside the region, overlapping neither each other nor `obstacles`. When the source
-// has a volume_fraction, it also stops once the placed solid volume reaches that fraction of
-// the region volume. It gives up after `max_failed_attempts` consecutive rejected trials and
+// entirely inside the region, overlapping neither each other nor `obstacles`, and crossing no
+// wall of `obstacles.crosses_wall`. When the source has a volume_fraction, it also stops once
+// the placed solid volume reaches that fraction of the region volume. It gives up after `max_failed_attempts` consecutive rejected trials and
 // returns what it placed. Deterministic for a given rng state.
 std::vector<ParticleSeed> generate_particles(const ParticleSourceConfig& source,
                                              std::int64_t max_new, const Obstacles& obstacles,

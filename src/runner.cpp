@@ -8,6 +8,7 @@
 #include <optional>
 #include <sstream>
 
+#include "atomic_file.hpp"
 #include "build_info.hpp"
 #include "engine.hpp"
 #include "kernel_timer.hpp"
@@ -39,7 +40,9 @@ const std::vector<std::string> base_series_columns = {"step",
                                                       "largest_overlap_ratio",
                                                       "discharged_mass",
                                                       "discharged_count",
-                                                      "list_builds"};
+                                                      "list_builds",
+                                                      "lost_mass",
+                                                      "lost_count"};
 
 std::vector<double> base_series_row(const Diagnostics& d);
 
@@ -75,12 +78,9 @@ std::vector<double> base_series_row(const Diagnostics& d) {
           d.largest_overlap_ratio,
           d.discharged_mass,
           double(d.discharged_count),
-          double(d.list_builds)};
-}
-
-bool finite_state(const Diagnostics& d) {
-  return std::isfinite(d.translational_energy) && std::isfinite(d.rotational_energy) &&
-         std::isfinite(d.potential_energy);
+          double(d.list_builds),
+          d.lost_mass,
+          double(d.lost_count)};
 }
 
 // Steps between two events spaced `interval` seconds apart (at least one step).
@@ -112,6 +112,28 @@ void warn_about_initial_overlaps(const Engine& engine, bool quiet) {
       "warning: at the start particles overlap by up to %.0f%% of their radius (%d wall and %d "
       "particle contacts); does a particle region reach through a wall?\n",
       100 * d.largest_overlap_ratio, d.wall_contacts, d.pair_contacts);
+}
+
+std::string vector_json(const Vec3d& a) {
+  return "[" + json_number(a[0]) + ", " + json_number(a[1]) + ", " + json_number(a[2]) + "]";
+}
+
+std::string failure_json(const Engine& engine, const HealthReport& report) {
+  std::ostringstream out;
+  out << "{\n  \"trigger\": " << json_string(report.trigger)
+      << ",\n  \"step\": " << engine.step_count() << ",\n  \"time\": " << json_number(engine.time())
+      << ",\n  \"finding\": " << json_string(report.finding) << ",\n  \"particles\": [";
+  for (std::size_t k = 0; k < report.particles.size(); ++k) {
+    const ParticleReport& p = report.particles[k];
+    out << (k ? "," : "") << "\n    {\"id\": " << p.id << ", \"shape\": " << json_string(p.shape)
+        << ", \"position\": " << vector_json(p.position)
+        << ", \"velocity\": " << vector_json(p.velocity) << "}";
+  }
+  out << "\n  ],\n  \"likely_causes\": [";
+  for (std::size_t k = 0; k < report.likely_causes.size(); ++k)
+    out << (k ? "," : "") << "\n    " << json_string(report.likely_causes[k]);
+  out << "\n  ]\n}\n";
+  return out.str();
 }
 
 class OutputWriter {
@@ -150,6 +172,19 @@ public:
       engine.write_checkpoint((directory_ / "checkpoint.h5").string());
   }
 
+  // The state of a run stopped by a check, beside its output: checkpoint, particle frame and
+  // failure.json; series.csv flushed. Returns the files written.
+  std::vector<fs::path> write_failure(const Engine& engine, const HealthReport& report) {
+    series_.flush();
+    const fs::path checkpoint = directory_ / "failure_checkpoint.h5";
+    const fs::path frame = directory_ / "failure_particles.vtu";
+    const fs::path json = directory_ / "failure.json";
+    engine.write_checkpoint(checkpoint.string());
+    write_particles_vtu(frame, engine.snapshot());
+    write_text_atomically(json, failure_json(engine, report));
+    return {checkpoint, frame, json};
+  }
+
   const Diagnostics& last() const { return last_; }
   double largest_overlap_seen() const { return largest_overlap_; }
 
@@ -181,13 +216,6 @@ private:
       series_.flush();
       rows_since_flush_ = 0;
     }
-    if (!finite_state(last_)) {
-      engine.write_checkpoint((directory_ / "nan_dump.h5").string());
-      std::ostringstream msg;
-      msg << "non-finite energy at step " << last_.step << " (t = " << last_.time
-          << " s); state dumped to " << (directory_ / "nan_dump.h5").string();
-      throw std::runtime_error(msg.str());
-    }
   }
 
   fs::path directory_;
@@ -197,6 +225,65 @@ private:
   Diagnostics last_;
   double largest_overlap_ = 0;
   int rows_since_flush_ = 0;
+};
+
+std::string particle_line(const ParticleReport& p) {
+  char text[256];
+  const double speed = std::sqrt(p.velocity[0] * p.velocity[0] + p.velocity[1] * p.velocity[1] +
+                                 p.velocity[2] * p.velocity[2]);
+  std::snprintf(text, sizeof text, " at (%.4g, %.4g, %.4g) m, speed %.3g m/s", p.position[0],
+                p.position[1], p.position[2], speed);
+  return "particle " + std::to_string(p.id) + " (" + p.shape + ")" + text;
+}
+
+// One message for a run stopped by a check: where, what, who, why, and what was written.
+std::string failure_message(const Engine& engine, const HealthReport& report,
+                            const std::vector<fs::path>& written) {
+  std::ostringstream msg;
+  msg << "run stopped at step " << engine.step_count() << " (t = " << engine.time() << " s), check "
+      << report.trigger << ": " << report.finding;
+  for (const ParticleReport& p : report.particles)
+    msg << "\n  " << particle_line(p);
+  for (const std::string& cause : report.likely_causes)
+    msg << "\n  likely cause: " << cause;
+  msg << "\n  state written to";
+  for (std::size_t k = 0; k < written.size(); ++k)
+    msg << (k == 0 ? " " : (k + 1 == written.size() ? " and " : ", ")) << written[k].string();
+  return msg.str();
+}
+
+// Warns of particles leaving the domain: the first few removals by id, then a last word.
+class LossWarnings {
+public:
+  explicit LossWarnings(bool quiet, std::int64_t lost_before) : quiet_(quiet), seen_(lost_before) {}
+  void after_step(const Engine& engine) {
+    const std::int64_t lost = engine.lost_count();
+    if (lost == seen_)
+      return;
+    const std::int64_t newly = lost - seen_;
+    seen_ = lost;
+    if (quiet_ || warnings_ > max_warnings)
+      return;
+    if (warnings_++ == max_warnings) {
+      std::fprintf(stderr, "warning: further particles leaving the domain are removed and counted "
+                           "(series.csv and run.json: lost_count, lost_mass)\n");
+      return;
+    }
+    std::string ids;
+    for (std::int64_t id : engine.latest_lost_ids())
+      ids += (ids.empty() ? "" : ", ") + std::to_string(id);
+    std::fprintf(stderr,
+                 "warning: %lld particles left the domain by t = %.6g s and were removed "
+                 "(ids %s%s)\n",
+                 static_cast<long long>(newly), engine.time(), ids.c_str(),
+                 newly > 5 ? ", ..." : "");
+  }
+
+private:
+  static constexpr int max_warnings = 5;
+  bool quiet_;
+  std::int64_t seen_;
+  int warnings_ = 0;
 };
 
 RunSummary summarise(const Engine& engine, const OutputWriter& output, std::int64_t steps,
@@ -226,12 +313,26 @@ RunSummary summarise(const Engine& engine, const OutputWriter& output, std::int6
   summary.extra.push_back({"wall_candidates", double(engine.wall_candidates())});
   summary.extra.push_back({"pair_contacts", double(d.pair_contacts)});
   summary.extra.push_back({"discharged_count", double(d.discharged_count)});
+  summary.extra.push_back({"lost_count", double(d.lost_count)});
+  summary.extra.push_back({"lost_mass", d.lost_mass});
   summary.extra.push_back({"narrow_phase_evaluations", double(narrow.evaluations)});
   summary.extra.push_back({"narrow_phase_fallbacks", double(narrow.fallbacks)});
   summary.extra.push_back(
       {"narrow_phase_mean_iterations",
        narrow.evaluations > 0 ? double(narrow.iterations) / double(narrow.evaluations) : 0.0});
   return summary;
+}
+
+// Exit status of a run stopped by a check (docs/scene.md, "checks").
+constexpr int stopped_by_check = 3;
+
+int stop_if_unhealthy(const Engine& engine, OutputWriter& output) {
+  const HealthReport report = engine.check_health();
+  if (report.healthy())
+    return 0;
+  const std::vector<fs::path> written = output.write_failure(engine, report);
+  std::fprintf(stderr, "error: %s\n", failure_message(engine, report, written).c_str());
+  return stopped_by_check;
 }
 
 } // namespace
@@ -257,6 +358,7 @@ int run_scene(const RunOptions& options) {
   warn_about_initial_overlaps(*engine, options.quiet);
   try {
     const fs::path directory = scene.output.directory;
+    fs::remove(directory / "run.json"); // a run that fails must not leave an earlier one's
     OutputWriter output(directory, scene, *engine, engine->time_step());
     const std::int64_t total_steps = std::llround(scene.duration / scene.time_step);
     std::int64_t remaining = std::max<std::int64_t>(0, total_steps - engine->step_count());
@@ -266,6 +368,10 @@ int run_scene(const RunOptions& options) {
     const Diagnostics& first = output.last();
     const double initial_energy =
         first.translational_energy + first.rotational_energy + first.potential_energy;
+    const std::int64_t check_every = scene.checks.interval;
+    if (const int code = stop_if_unhealthy(*engine, output); code != 0)
+      return code;
+    LossWarnings losses(options.quiet, engine->lost_count());
     ProgressLine progress(options.quiet, engine->step_count() + remaining);
     if (timer)
       timer->reset(); // the kernels of the steps only
@@ -274,6 +380,12 @@ int run_scene(const RunOptions& options) {
     for (std::int64_t k = 0; k < remaining; ++k) {
       particle_steps += engine->particle_count();
       engine->step();
+      losses.after_step(*engine);
+      if (engine->step_count() % check_every == 0)
+        if (const int code = stop_if_unhealthy(*engine, output); code != 0) {
+          progress.finish();
+          return code;
+        }
       output.at_step(*engine, false);
       const double seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

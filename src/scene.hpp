@@ -155,6 +155,16 @@ struct OutputConfig {
   bool final_checkpoint = true;
 };
 
+// When a run is stopped as gone wrong (checked every `interval` steps; see docs/scene.md,
+// "checks") and what happens to particles that leave the domain.
+struct ChecksConfig {
+  enum class Leaving { Remove, Stop };
+  int interval = 10;               // steps between two checks
+  double max_overlap_ratio = 0.25; // deepest overlap / particle radius
+  double max_energy_gain = 1.0;    // kinetic energy above its bound, relative to the bound
+  Leaving leaving_domain = Leaving::Remove;
+};
+
 struct SceneConfig {
   std::string source_file; // for messages
   Vec3d gravity{0, 0, -9.81};
@@ -175,6 +185,7 @@ struct SceneConfig {
   std::vector<WallConfig> walls;
   std::vector<OutletConfig> outlets;
   OutputConfig output;
+  ChecksConfig checks;
 };
 
 } // namespace kdem

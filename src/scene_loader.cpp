@@ -550,6 +550,22 @@ OutputConfig read_output(const Value& value) {
   return output;
 }
 
+ChecksConfig read_checks(const Value& value) {
+  const Mapping map(value, {"interval", "max_overlap_ratio", "max_energy_gain", "leaving_domain"});
+  ChecksConfig checks;
+  if (auto value_found = map.find("interval"))
+    checks.interval = int(std::min<std::int64_t>(whole_number(*value_found, 1), 1'000'000'000));
+  if (auto value_found = map.find("max_overlap_ratio"))
+    checks.max_overlap_ratio = positive(*value_found, "particle radii");
+  if (auto value_found = map.find("max_energy_gain"))
+    checks.max_energy_gain = positive(*value_found, "units of the bound");
+  if (auto value_found = map.find("leaving_domain"))
+    checks.leaving_domain = one_of_words(*value_found, {"remove", "stop"}) == "stop"
+                                ? ChecksConfig::Leaving::Stop
+                                : ChecksConfig::Leaving::Remove;
+  return checks;
+}
+
 void read_domain(const Value& value, SceneConfig& scene) {
   read_box_corners(Mapping(value, {"min", "max"}), scene.domain_min, scene.domain_max);
   scene.has_domain = true;
@@ -584,7 +600,7 @@ double default_skin(const SceneConfig& scene) {
 KeyList scene_keys() {
   KeyList keys{"time_step", "duration",  "gravity",      "skin",   "sort_by_cell",
                "domain",    "materials", "interactions", "shapes", "particles",
-               "walls",     "outlets",   "output"};
+               "walls",     "outlets",   "output",       "checks"};
   auto after_shapes = keys.begin() + 9;
   for (const FamilyScene& family : family_scenes())
     if (!family.settings_key.empty())
@@ -611,6 +627,8 @@ SceneConfig read_scene(const Value& root) {
   read_bodies(map, scene);
   if (auto value_found = map.find("output"))
     scene.output = read_output(*value_found);
+  if (auto value_found = map.find("checks"))
+    scene.checks = read_checks(*value_found);
   const auto skin_value = map.find("skin");
   scene.skin = skin_value ? positive(*skin_value, "metres") : default_skin(scene);
   if (auto value_found = map.find("sort_by_cell"))

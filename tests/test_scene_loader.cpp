@@ -362,6 +362,10 @@ TEST(SceneDefaults, MinimalSceneGetsTheDocumentedDefaults) {
   EXPECT_EQ(scene.output.directory, "out");
   EXPECT_DOUBLE_EQ(scene.output.frame_interval, 0);
   EXPECT_TRUE(scene.output.final_checkpoint);
+  EXPECT_EQ(scene.checks.interval, 10);
+  EXPECT_DOUBLE_EQ(scene.checks.max_overlap_ratio, 0.25);
+  EXPECT_DOUBLE_EQ(scene.checks.max_energy_gain, 1.0);
+  EXPECT_EQ(scene.checks.leaving_domain, kdem::ChecksConfig::Leaving::Remove);
   EXPECT_EQ(scene.sources.at(0).sizes.kind, kdem::SizeDistributionConfig::Kind::Monodisperse);
   EXPECT_DOUBLE_EQ(scene.sources.at(0).sizes.radius, 0.002);
 }
@@ -486,8 +490,30 @@ TEST(SceneKeyErrors, UnknownTopLevelKeyListsTheAllowedKeysAndSuggestsOne) {
       minimal_scene_plus("durration: 1\n"), 14, "durration",
       "expected one of the keys time_step, duration, gravity, skin, sort_by_cell, domain, "
       "materials, interactions, shapes, superquadric_contact, particles, walls, "
-      "outlets, output, got the key "
+      "outlets, output, checks, got the key "
       "\"durration\" (did you mean \"duration\"?)"));
+}
+
+TEST(SceneChecks, EveryKeyIsRead) {
+  const SceneConfig scene = load_text(minimal_scene_plus(
+      "checks: {interval: 5, max_overlap_ratio: 0.1, max_energy_gain: 3, leaving_domain: stop}\n"));
+  EXPECT_EQ(scene.checks.interval, 5);
+  EXPECT_DOUBLE_EQ(scene.checks.max_overlap_ratio, 0.1);
+  EXPECT_DOUBLE_EQ(scene.checks.max_energy_gain, 3);
+  EXPECT_EQ(scene.checks.leaving_domain, kdem::ChecksConfig::Leaving::Stop);
+}
+
+TEST(SceneChecks, BadValuesAreRefusedByKey) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("checks: {interval: 0}\n"), 14, "checks.interval",
+                         "expected a whole number >= 1"));
+  EXPECT_TRUE(fails_with(minimal_scene_plus("checks: {max_overlap_ratio: -1}\n"), 14,
+                         "checks.max_overlap_ratio", "expected a positive number"));
+  EXPECT_TRUE(fails_with(minimal_scene_plus("checks: {max_energy_gain: .nan}\n"), 14,
+                         "checks.max_energy_gain", "expected a positive number"));
+  EXPECT_TRUE(fails_with(minimal_scene_plus("checks: {leaving_domain: ignore}\n"), 14,
+                         "checks.leaving_domain", "expected one of remove, stop"));
+  EXPECT_TRUE(fails_with(minimal_scene_plus("checks: {intervall: 3}\n"), 14, "checks.intervall",
+                         "expected one of the keys interval, max_overlap_ratio"));
 }
 
 TEST(SceneKeyErrors, UnknownNestedKey) {

@@ -4,6 +4,10 @@
 #   run_checks.sh threads  KDEM COMPARE SCENE WORKDIR   OpenMP with 1 and 2 threads, bit for bit
 #   run_checks.sh backends KDEM_A KDEM_B COMPARE SCENE WORKDIR   two backends, bit for bit
 #   run_checks.sh errors   KDEM ERRORS_DIR WORKDIR       every bad scene: message, exit code, no output
+#   run_checks.sh failures KDEM FAILURES_DIR WORKDIR     every run gone wrong: stopped with exit code
+#                                                       3, its message, the state dump, no run.json
+#   run_checks.sh leaving  KDEM SCENE WORKDIR           particles leaving the domain: removed,
+#                                                       counted in run.json and series.csv, warned
 set -euo pipefail
 mode=$1
 shift
@@ -55,6 +59,51 @@ case "$mode" in
     done
     [ "$count" -gt 0 ] || fail "no bad scenes in $errors"
     echo "$count bad scenes rejected with their messages"
+    ;;
+  failures)
+    kdem=$1 failures=$2 work=$3
+    rm -rf "$work" && mkdir -p "$work"
+    count=0
+    for scene in "$failures"/*.yaml; do
+      expect=$(sed -n '1s/^# expect: //p' "$scene")
+      [ -n "$expect" ] || fail "$scene has no '# expect:' first line"
+      out="$work/$(basename "$scene" .yaml)"
+      mkdir -p "$out" && echo '{"stale": true}' >"$out/run.json"
+      set +e
+      message=$("$kdem" run "$scene" --out "$out" --quiet 2>&1)
+      code=$?
+      set -e
+      [ "$code" -eq 3 ] || fail "$scene: exit code $code, expected 3; message: $message"
+      grep -qF -- "$expect" <<<"$message" || fail "$scene: message '$message' lacks '$expect'"
+      for file in failure_checkpoint.h5 failure_particles.vtu failure.json series.csv; do
+        [ -s "$out/$file" ] || fail "$scene: no $file written"
+      done
+      [ ! -e "$out/run.json" ] || fail "$scene: a run.json is left in $out"
+      python3 -c "import json,sys; d=json.load(open(sys.argv[1])); assert d['trigger'] and d['particles'] and d['likely_causes']" \
+        "$out/failure.json" || fail "$scene: failure.json incomplete"
+      count=$((count + 1))
+    done
+    [ "$count" -gt 0 ] || fail "no failing scenes in $failures"
+    echo "$count runs gone wrong stopped with their messages"
+    ;;
+  leaving)
+    kdem=$1 scene=$2 work=$3
+    rm -rf "$work" && mkdir -p "$work"
+    message=$("$kdem" run "$scene" --out "$work" 2>&1 >/dev/null)
+    grep -q "left the domain by t = .* and were removed (ids " <<<"$message" ||
+      fail "no warning naming the lost particles in: $message"
+    python3 - "$work" <<'PY'
+import csv, json, sys
+out = sys.argv[1]
+run = json.load(open(out + "/run.json"))
+lost = run["extra"]["lost_count"]
+assert lost > 0, "nothing counted as lost"
+assert run["particles"] + lost == 20, (run["particles"], lost)
+rows = list(csv.DictReader(open(out + "/series.csv")))
+assert float(rows[-1]["lost_count"]) == lost, rows[-1]
+assert float(rows[-1]["lost_mass"]) > 0
+print(f"{lost} of 20 particles left the domain, removed and counted")
+PY
     ;;
   *)
     fail "unknown mode $mode"
