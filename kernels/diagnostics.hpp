@@ -233,6 +233,19 @@ inline int mark_non_finite(const ParticleViews& p, IndexView& flag) {
 
 using ValueAndIndex = Kokkos::MaxLoc<double, int>::value_type;
 
+// The start of a search for the largest positive value: none yet (index -1).
+inline ValueAndIndex nothing_found() {
+  ValueAndIndex none;
+  none.val = 0;
+  none.loc = -1;
+  return none;
+}
+
+// A search's result, index -1 when it found no positive value.
+inline ValueAndIndex found_or_none(ValueAndIndex best) {
+  return best.val > 0 ? best : nothing_found();
+}
+
 // The deepest pair contact relative to the smaller radius of its pair: ratio and pair index
 // (-1: no contact).
 inline ValueAndIndex deepest_pair_contact(const ParticleViews& p, const PairList& list) {
@@ -240,9 +253,7 @@ inline ValueAndIndex deepest_pair_contact(const ParticleViews& p, const PairList
   auto pair_i = list.pair_i, pair_j = list.pair_j;
   const ContactSlots slots = list.slots();
   auto radius = p.radius;
-  ValueAndIndex deepest;
-  deepest.val = 0;
-  deepest.loc = -1;
+  ValueAndIndex deepest = nothing_found();
   Kokkos::parallel_reduce(
       "kdem::deepest_pair_contact", RangePolicy(0, list.pair_count),
       KOKKOS_LAMBDA(int k, ValueAndIndex& best) {
@@ -253,9 +264,7 @@ inline ValueAndIndex deepest_pair_contact(const ParticleViews& p, const PairList
         }
       },
       Kokkos::MaxLoc<double, int>(deepest));
-  if (!(deepest.val > 0))
-    deepest.loc = -1;
-  return deepest;
+  return found_or_none(deepest);
 }
 
 // The deepest wall contact relative to its particle's radius: ratio and candidate entry (-1:
@@ -265,9 +274,7 @@ inline ValueAndIndex deepest_wall_contact(const ParticleViews& p, const WallCont
   auto row_start = list.row_start;
   const ContactSlots slots = list.slots();
   auto radius = p.radius;
-  ValueAndIndex deepest;
-  deepest.val = 0;
-  deepest.loc = -1;
+  ValueAndIndex deepest = nothing_found();
   Kokkos::parallel_reduce(
       "kdem::deepest_wall_contact", RangePolicy(0, p.count),
       KOKKOS_LAMBDA(int i, ValueAndIndex& best) {
@@ -277,17 +284,13 @@ inline ValueAndIndex deepest_wall_contact(const ParticleViews& p, const WallCont
               best.val = overlap(s) / radius(i), best.loc = k;
       },
       Kokkos::MaxLoc<double, int>(deepest));
-  if (!(deepest.val > 0))
-    deepest.loc = -1;
-  return deepest;
+  return found_or_none(deepest);
 }
 
 // The fastest particle: its speed squared and index.
 inline ValueAndIndex fastest_particle(const ParticleViews& p) {
   auto v = p.velocity;
-  ValueAndIndex fastest;
-  fastest.val = 0;
-  fastest.loc = -1;
+  ValueAndIndex fastest = nothing_found();
   Kokkos::parallel_reduce(
       "kdem::fastest_particle", RangePolicy(0, p.count),
       KOKKOS_LAMBDA(int i, ValueAndIndex& best) {
@@ -296,7 +299,7 @@ inline ValueAndIndex fastest_particle(const ParticleViews& p) {
           best.val = speed2, best.loc = i;
       },
       Kokkos::MaxLoc<double, int>(fastest));
-  return fastest;
+  return found_or_none(fastest);
 }
 
 // Indices of the kept particles, in order.

@@ -125,8 +125,8 @@ HealthReport Engine::State::check_energy() const {
       printed("kinetic energy %.3g J exceeds %.3g J, (1 + checks.max_energy_gain = ", kinetic,
               (1 + gain) * bound) +
       printed("%g) times what the scene can give its particles (%.3g J)", gain, bound);
-  const ValueAndIndex fastest = fastest_particle(particles);
-  report.particles = reports_of({fastest.loc});
+  if (const ValueAndIndex fastest = fastest_particle(particles); fastest.loc >= 0)
+    report.particles = reports_of({fastest.loc}); // none when all energy is rotational
   return report;
 }
 

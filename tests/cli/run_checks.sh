@@ -15,6 +15,14 @@ export OMP_PROC_BIND=false
 
 fail() { echo "FAILED: $*" >&2; exit 1; }
 
+# The message a bad or failing scene must give: its first line, "# expect: MESSAGE".
+expected_message() {
+  local expect
+  expect=$(sed -n '1s/^# expect: //p' "$1")
+  [ -n "$expect" ] || fail "$1 has no '# expect:' first line"
+  echo "$expect"
+}
+
 case "$mode" in
   restart)
     kdem=$1 compare=$2 scene=$3 work=$4
@@ -45,8 +53,7 @@ case "$mode" in
     rm -rf "$work" && mkdir -p "$work"
     count=0
     for scene in "$errors"/*.yaml; do
-      expect=$(sed -n '1s/^# expect: //p' "$scene")
-      [ -n "$expect" ] || fail "$scene has no '# expect:' first line"
+      expect=$(expected_message "$scene")
       out="$work/$(basename "$scene" .yaml)"
       set +e
       message=$("$kdem" run "$scene" --out "$out" --quiet 2>&1)
@@ -65,8 +72,7 @@ case "$mode" in
     rm -rf "$work" && mkdir -p "$work"
     count=0
     for scene in "$failures"/*.yaml; do
-      expect=$(sed -n '1s/^# expect: //p' "$scene")
-      [ -n "$expect" ] || fail "$scene has no '# expect:' first line"
+      expect=$(expected_message "$scene")
       out="$work/$(basename "$scene" .yaml)"
       mkdir -p "$out" && echo '{"stale": true}' >"$out/run.json"
       set +e

@@ -55,6 +55,22 @@ inline WallConfig plane_wall(const std::string& material, Vec3d point, Vec3d nor
   return w;
 }
 
+// A drum of radius 0.1 m and length 0.1 m about the y axis through the origin, turning at `rpm`.
+inline WallConfig drum_about_y(const std::string& material, double rpm) {
+  WallConfig drum;
+  drum.kind = WallConfig::Kind::Cylinder;
+  drum.name = "drum";
+  drum.material = material;
+  drum.base_center = {0, -0.05, 0};
+  drum.axis_direction = {0, 1, 0};
+  drum.radius = 0.1;
+  drum.length = 0.1;
+  drum.motion.axis_point = {0, 0, 0};
+  drum.motion.axis_direction = {0, 1, 0};
+  drum.motion.rpm = rpm;
+  return drum;
+}
+
 inline ParticleInit sphere(Vec3d position, double radius, Vec3d velocity = {0, 0, 0},
                            int material = 0) {
   ParticleInit p;

@@ -130,17 +130,7 @@ TEST(RunChecks, LargeTimeStepIsStoppedAndNamed) {
 TEST(RunChecks, FastWallIsNamedAsLikelyCause) {
   const double r = 0.005;
   SceneConfig scene = empty_scene(1e-5, {glass()});
-  WallConfig drum;
-  drum.kind = WallConfig::Kind::Cylinder;
-  drum.name = "drum";
-  drum.material = "glass";
-  drum.base_center = {0, -0.05, 0};
-  drum.axis_direction = {0, 1, 0};
-  drum.radius = 0.1;
-  drum.length = 0.1;
-  drum.motion.axis_direction = {0, 1, 0};
-  drum.motion.rpm = 3e5;
-  scene.walls.push_back(drum);
+  scene.walls.push_back(drum_about_y("glass", 3e5));
   Engine engine(scene);
   engine.add_particles({sphere({0, 0, -0.1 + 0.5 * r}, r)});
   const HealthReport report = engine.check_health();
