@@ -2,10 +2,12 @@
 
 #include <vtkCellArray.h>
 #include <vtkNew.h>
+#include <vtkOBJReader.h>
 #include <vtkPolyData.h>
 #include <vtkSTLReader.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -58,12 +60,15 @@ Point outward_in_plane(const TriangleMesh& mesh, int t, int a, int b) {
 
 } // namespace
 
-TriangleMesh read_stl(const std::string& path) {
-  if (!std::filesystem::exists(path))
-    throw std::runtime_error(path + ": STL file not found");
-  vtkNew<vtkSTLReader> reader;
+namespace {
+
+// The triangles of a reader's polygons (a polygon of n > 3 corners as the fan of n - 2 triangles
+// from its first corner), its vertices welded; throws naming the file when there are none.
+template <class Reader>
+TriangleMesh read_with(const std::string& path, const std::string& format, Reader& reader) {
+  if (!std::filesystem::is_regular_file(path))
+    throw std::runtime_error(path + ": " + format + " file not found");
   reader->SetFileName(path.c_str());
-  reader->MergingOff();
   reader->Update();
   vtkPolyData* data = reader->GetOutput();
   TriangleMesh mesh;
@@ -77,11 +82,45 @@ TriangleMesh read_stl(const std::string& path) {
   vtkIdType count = 0;
   const vtkIdType* ids = nullptr;
   while (polys->GetNextCell(count, ids))
-    if (count == 3)
-      mesh.triangles.push_back({int(ids[0]), int(ids[1]), int(ids[2])});
+    for (vtkIdType k = 1; k + 1 < count; ++k)
+      mesh.triangles.push_back({int(ids[0]), int(ids[k]), int(ids[k + 1])});
   if (mesh.triangles.empty())
-    throw std::runtime_error(path + ": no triangles read (is it an STL file?)");
+    throw std::runtime_error(path + ": no triangles read (is it an " + format + " file?)");
   return weld(mesh, 1e-9 * bounding_diagonal(mesh));
+}
+
+std::string lower_extension(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension)
+    c = char(std::tolower(static_cast<unsigned char>(c)));
+  return extension;
+}
+
+} // namespace
+
+TriangleMesh read_stl(const std::string& path) {
+  vtkNew<vtkSTLReader> reader;
+  reader->MergingOff();
+  return read_with(path, "STL", reader);
+}
+
+TriangleMesh read_obj(const std::string& path) {
+  vtkNew<vtkOBJReader> reader;
+  return read_with(path, "OBJ", reader);
+}
+
+TriangleMesh read_mesh(const std::string& path) {
+  const std::string extension = lower_extension(path);
+  if (extension == ".stl")
+    return read_stl(path);
+  if (extension == ".obj")
+    return read_obj(path);
+  throw std::runtime_error(path + ": expected a mesh file ending in .stl or .obj");
+}
+
+bool is_mesh_file_name(const std::string& path) {
+  const std::string extension = lower_extension(path);
+  return extension == ".stl" || extension == ".obj";
 }
 
 TriangleMesh weld(const TriangleMesh& mesh, double tolerance) {

@@ -1,5 +1,5 @@
 #pragma once
-// Triangle meshes for walls: reading STL, welding coincident vertices, and the edge/vertex
+// Triangle meshes for walls: reading STL and OBJ, welding coincident vertices, and the edge/vertex
 // topology that sphere-mesh contact needs.
 #include <array>
 #include <string>
@@ -12,9 +12,14 @@ struct TriangleMesh {
   std::vector<std::array<int, 3>> triangles;
 };
 
-// Reads an ASCII or binary STL file (through VTK) and welds its vertices. Throws
-// std::runtime_error naming the file when it cannot be read or holds no triangles.
+// Reads an ASCII or binary STL file, or a Wavefront OBJ file (its faces; a face of n > 3 corners
+// as a fan of triangles), through VTK, and welds its vertices. Throws std::runtime_error naming
+// the file when it cannot be read or holds no triangles. read_mesh picks the reader by the file
+// name's extension (.stl or .obj, in any case) and refuses any other.
 TriangleMesh read_stl(const std::string& path);
+TriangleMesh read_obj(const std::string& path);
+TriangleMesh read_mesh(const std::string& path);
+bool is_mesh_file_name(const std::string& path);
 
 // Merges points closer than `tolerance` and drops triangles that become degenerate.
 TriangleMesh weld(const TriangleMesh& mesh, double tolerance);

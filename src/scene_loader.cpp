@@ -1,6 +1,7 @@
 #include "scene_loader.hpp"
 
 #include "family_scene.hpp"
+#include "mesh.hpp"
 #include "scene_yaml.hpp"
 
 #include <yaml-cpp/yaml.h>
@@ -449,7 +450,7 @@ void read_wall_cylinder(const Value& value, WallConfig& wall) {
 
 std::string existing_mesh_file(const Value& value) {
   const std::string expectation =
-      "the path of an existing STL file (relative to the scene file's folder)";
+      "the path of an existing STL or OBJ file (relative to the scene file's folder)";
   const fs::path written(text(value, expectation));
   const fs::path relative_to_scene =
       written.is_absolute() ? written : value.source().base_dir / written;
@@ -457,6 +458,8 @@ std::string existing_mesh_file(const Value& value) {
   std::error_code error;
   if (!fs::is_regular_file(resolved, error))
     value.expected(expectation, "no file at " + resolved.string());
+  if (!is_mesh_file_name(resolved.string()))
+    value.expected(expectation, "the name ends in neither .stl nor .obj");
   return resolved.string();
 }
 

@@ -199,7 +199,7 @@ void add_body_contact_topology(WallElementTable& t, const TriangleMesh& mesh,
 }
 
 void add_mesh(WallElementTable& t, SurfaceBuilder& s, int wall, const WallConfig& c) {
-  TriangleMesh mesh = read_stl(c.file);
+  TriangleMesh mesh = read_mesh(c.file);
   for (auto& p : mesh.points)
     for (int a = 0; a < 3; ++a)
       p[a] = p[a] * c.scale + c.translate[a];
@@ -319,7 +319,7 @@ bool walls_bounding_box(const std::vector<WallConfig>& walls, Vec3d& lo, Vec3d& 
         include(add(centre, {c.radius, c.radius, c.radius}));
       }
     } else if (c.kind == WallConfig::Kind::Mesh) {
-      for (const auto& p : read_stl(c.file).points) {
+      for (const auto& p : read_mesh(c.file).points) {
         Vec3d q;
         for (int a = 0; a < 3; ++a)
           q[a] = p[a] * c.scale + c.translate[a];

@@ -856,12 +856,22 @@ TEST(SceneReferenceErrors, MissingMeshFile) {
   ScratchFolder folder;
   const std::string expected_place =
       fs::absolute(folder.path() / "parts" / "funnel.stl").lexically_normal().string();
+  EXPECT_TRUE(
+      fails_with(minimal_scene_plus("walls:\n  - name: funnel\n    material: glass\n"
+                                    "    mesh: {file: parts/funnel.stl}\n"),
+                 17, "walls[0].mesh.file",
+                 "expected the path of an existing STL or OBJ file (relative to the scene file's "
+                 "folder), got \"parts/funnel.stl\" (no file at " +
+                     expected_place + ")",
+                 folder.path().string()));
+}
+
+TEST(SceneReferenceErrors, MeshFileOfAnotherFormat) {
+  ScratchFolder folder;
+  folder.write("parts/funnel.ply", "ply\n");
   EXPECT_TRUE(fails_with(minimal_scene_plus("walls:\n  - name: funnel\n    material: glass\n"
-                                            "    mesh: {file: parts/funnel.stl}\n"),
-                         17, "walls[0].mesh.file",
-                         "expected the path of an existing STL file (relative to the scene file's "
-                         "folder), got \"parts/funnel.stl\" (no file at " +
-                             expected_place + ")",
+                                            "    mesh: {file: parts/funnel.ply}\n"),
+                         17, "walls[0].mesh.file", "(the name ends in neither .stl nor .obj)",
                          folder.path().string()));
 }
 

@@ -1,0 +1,128 @@
+// Mesh files for walls: ASCII and binary STL and Wavefront OBJ read to the same welded mesh, and
+// clear errors for a missing, empty or unknown file.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "src/mesh.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using kdem::TriangleMesh;
+
+// The unit square in z = 0 as two triangles sharing the diagonal (0,0,0)-(1,1,0).
+const std::array<std::array<double, 3>, 6> square_corners{
+    {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 0, 0}, {1, 1, 0}, {0, 1, 0}}};
+
+fs::path scratch(const std::string& name) {
+  const fs::path folder = fs::path(testing::TempDir()) / "kdem_mesh_files";
+  fs::create_directories(folder);
+  return folder / name;
+}
+
+fs::path write_text(const std::string& name, const std::string& text) {
+  const fs::path path = scratch(name);
+  std::ofstream(path) << text;
+  return path;
+}
+
+fs::path write_ascii_stl(const std::string& name) {
+  std::string text = "solid square\n";
+  for (int t = 0; t < 2; ++t) {
+    text += " facet normal 0 0 1\n  outer loop\n";
+    for (int v = 0; v < 3; ++v) {
+      const auto& p = square_corners[3 * t + v];
+      text += "   vertex " + std::to_string(p[0]) + " " + std::to_string(p[1]) + " " +
+              std::to_string(p[2]) + "\n";
+    }
+    text += "  endloop\n endfacet\n";
+  }
+  return write_text(name, text + "endsolid square\n");
+}
+
+// Binary STL: 80-byte header, triangle count, then per triangle 12 floats and a 2-byte word.
+fs::path write_binary_stl(const std::string& name) {
+  const fs::path path = scratch(name);
+  std::ofstream out(path, std::ios::binary);
+  char header[80] = {};
+  std::strncpy(header, "binary square", sizeof header);
+  out.write(header, sizeof header);
+  const std::uint32_t count = 2;
+  out.write(reinterpret_cast<const char*>(&count), 4);
+  for (int t = 0; t < 2; ++t) {
+    const float normal[3] = {0, 0, 1};
+    out.write(reinterpret_cast<const char*>(normal), sizeof normal);
+    for (int v = 0; v < 3; ++v)
+      for (int a = 0; a < 3; ++a) {
+        const float x = float(square_corners[3 * t + v][a]);
+        out.write(reinterpret_cast<const char*>(&x), 4);
+      }
+    const std::uint16_t attributes = 0;
+    out.write(reinterpret_cast<const char*>(&attributes), 2);
+  }
+  return path;
+}
+
+std::set<std::array<double, 3>> point_set(const TriangleMesh& mesh) {
+  return {mesh.points.begin(), mesh.points.end()};
+}
+
+void expect_welded_square(const TriangleMesh& mesh) {
+  EXPECT_EQ(mesh.triangles.size(), 2u);
+  EXPECT_EQ(mesh.points.size(), 4u); // the shared corners welded
+  const std::set<std::array<double, 3>> corners{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  EXPECT_EQ(point_set(mesh), corners);
+}
+
+TEST(MeshFiles, AsciiAndBinaryStlGiveTheSameMesh) {
+  expect_welded_square(kdem::read_mesh(write_ascii_stl("ascii.stl").string()));
+  expect_welded_square(kdem::read_mesh(write_binary_stl("binary.STL").string()));
+}
+
+TEST(MeshFiles, ObjQuadIsSplitIntoTwoTriangles) {
+  const fs::path path = write_text("quad.obj", "# a unit square\nv 0 0 0\nv 1 0 0\nv 1 1 0\n"
+                                               "v 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1 4//1\n");
+  const TriangleMesh mesh = kdem::read_mesh(path.string());
+  expect_welded_square(mesh);
+  for (const auto& t : mesh.triangles) // both triangles keep the face's orientation (+z)
+    EXPECT_GT((mesh.points[t[1]][0] - mesh.points[t[0]][0]) *
+                      (mesh.points[t[2]][1] - mesh.points[t[0]][1]) -
+                  (mesh.points[t[1]][1] - mesh.points[t[0]][1]) *
+                      (mesh.points[t[2]][0] - mesh.points[t[0]][0]),
+              0);
+}
+
+TEST(MeshFiles, ObjTrianglesMatchTheStl) {
+  const fs::path path = write_text("two.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                                              "f 1 2 3\nf 1 3 4\n");
+  const TriangleMesh obj = kdem::read_mesh(path.string());
+  const TriangleMesh stl = kdem::read_mesh(write_ascii_stl("same.stl").string());
+  EXPECT_EQ(point_set(obj), point_set(stl));
+  EXPECT_EQ(obj.triangles.size(), stl.triangles.size());
+}
+
+void expect_error(const fs::path& path, const std::string& words) {
+  try {
+    kdem::read_mesh(path.string());
+    ADD_FAILURE() << path << " was read";
+  } catch (const std::runtime_error& error) {
+    const std::string message = error.what();
+    EXPECT_EQ(message.rfind(path.string() + ": ", 0), 0u) << message;
+    EXPECT_NE(message.find(words), std::string::npos) << message;
+  }
+}
+
+TEST(MeshFiles, MissingEmptyAndUnknownFilesAreRefusedByName) {
+  expect_error(scratch("absent.stl"), "STL file not found");
+  expect_error(write_text("empty.obj", ""), "no triangles read (is it an OBJ file?)");
+  expect_error(write_text("no_faces.obj", "v 0 0 0\nv 1 0 0\n"), "no triangles read");
+  expect_error(write_text("empty.stl", "solid e\nendsolid e\n"), "no triangles read");
+  expect_error(write_text("square.ply", "ply\n"), "expected a mesh file ending in .stl or .obj");
+}
+
+} // namespace
