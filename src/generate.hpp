@@ -29,8 +29,9 @@ struct Obstacles {
 // Places up to `max_new` particles of `source` (random sequential addition) in its region, each
 // entirely inside the region, overlapping neither each other nor `obstacles`, and crossing no
 // wall of `obstacles.crosses_wall`. When the source has a volume_fraction, it also stops once
-// the placed solid volume reaches that fraction of the region volume. It gives up after `max_failed_attempts` consecutive rejected trials and
-// returns what it placed. Deterministic for a given rng state.
+// the placed solid volume reaches that fraction of the region volume. It gives up after
+// `max_failed_attempts` consecutive rejected trials and returns what it placed. Deterministic
+// for a given rng state.
 std::vector<ParticleSeed> generate_particles(const ParticleSourceConfig& source,
                                              std::int64_t max_new, const Obstacles& obstacles,
                                              std::mt19937_64& rng, int max_failed_attempts = 2000);

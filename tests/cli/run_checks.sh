@@ -23,6 +23,14 @@ expected_message() {
   echo "$expect"
 }
 
+# Runs KDEM run SCENE --out OUT --quiet; sets `message` (stdout and stderr) and `code`.
+run_capturing() {
+  set +e
+  message=$("$1" run "$2" --out "$3" --quiet 2>&1)
+  code=$?
+  set -e
+}
+
 case "$mode" in
   restart)
     kdem=$1 compare=$2 scene=$3 work=$4
@@ -55,10 +63,7 @@ case "$mode" in
     for scene in "$errors"/*.yaml; do
       expect=$(expected_message "$scene")
       out="$work/$(basename "$scene" .yaml)"
-      set +e
-      message=$("$kdem" run "$scene" --out "$out" --quiet 2>&1)
-      code=$?
-      set -e
+      run_capturing "$kdem" "$scene" "$out"
       [ "$code" -ne 0 ] || fail "$scene: exit code 0"
       grep -qF -- "$expect" <<<"$message" || fail "$scene: message '$message' lacks '$expect'"
       [ ! -e "$out" ] || fail "$scene: output directory $out was written"
@@ -75,10 +80,7 @@ case "$mode" in
       expect=$(expected_message "$scene")
       out="$work/$(basename "$scene" .yaml)"
       mkdir -p "$out" && echo '{"stale": true}' >"$out/run.json"
-      set +e
-      message=$("$kdem" run "$scene" --out "$out" --quiet 2>&1)
-      code=$?
-      set -e
+      run_capturing "$kdem" "$scene" "$out"
       [ "$code" -eq 3 ] || fail "$scene: exit code $code, expected 3; message: $message"
       grep -qF -- "$expect" <<<"$message" || fail "$scene: message '$message' lacks '$expect'"
       for file in failure_checkpoint.h5 failure_particles.vtu failure.json series.csv; do
