@@ -21,6 +21,10 @@ namespace kdem {
 using ExecSpace = KDEM_EXEC_SPACE;
 using MemSpace = KDEM_MEMORY_SPACE;
 using RangePolicy = Kokkos::RangePolicy<ExecSpace>;
+// For loops whose work gathers in part of the range, such as the wall contacts of particles
+// sorted by cell (those near a floor are contiguous): chunks handed out as threads come free.
+// The same results as RangePolicy; each index writes only its own outputs.
+using BalancedPolicy = Kokkos::RangePolicy<ExecSpace, Kokkos::Schedule<Kokkos::Dynamic>>;
 
 template <class T> using DeviceView = Kokkos::View<T, MemSpace>;
 

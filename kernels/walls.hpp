@@ -7,7 +7,9 @@
 #include "contact_law.hpp"
 #include "contact_slots.hpp"
 #include "particles.hpp"
+#include "ragged_table.hpp"
 #include "view_access.hpp"
+#include "wall_bins.hpp"
 
 namespace kdem {
 
@@ -63,8 +65,10 @@ struct WallElements {
   int count = 0;
   IndexView kind;
   IndexView wall;
-  DeviceView<double* [9]> geometry;     // plane: origin, normal | cylinder: base, axis, radius,
-                                        // length | triangle: a, b, c (reference frame)
+  // Per element in one row, as a triangle's contact reads it first (reference frame): plane:
+  // origin, normal | cylinder: base, axis, radius, length | triangle: a, b, c, then per edge (ab,
+  // bc, ca) the position of its first vertex and its edge_outward from the triangle's side.
+  DeviceView<double* [27]> geometry;
   DeviceView<int* [6]> features;        // triangle: edge ids ab, bc, ca; vertex ids a, b, c
   double feature_tolerance = 0;         // m, width of the band that decides between features
   IndexView edge_owner;                 // lowest-indexed adjacent triangle: the one that reports
@@ -87,11 +91,15 @@ struct WallElements {
   DeviceView<Vec3*> vertex_ring;
 };
 
+// Walls, their motions and poses now, and where to look for their elements near a point (per
+// wall, see kernels/wall_bins.hpp; cells: the element ids of each grid cell).
 struct WallSet {
   int wall_count = 0;
   WallElements elements;
   DeviceView<WallMotion*> motion;
   DeviceView<WallPose*> pose;
+  DeviceView<WallLookup*> lookup;
+  RaggedTable<int> cells;
 };
 
 inline void update_wall_poses(const WallSet& walls, double time) {
@@ -102,7 +110,7 @@ inline void update_wall_poses(const WallSet& walls, double time) {
       KOKKOS_LAMBDA(int w) { pose(w) = wall_pose_at(motion(w), time); });
 }
 
-KOKKOS_INLINE_FUNCTION Vec3 geometry_vec(const DeviceView<double* [9]>& g, int e, int first) {
+KOKKOS_INLINE_FUNCTION Vec3 geometry_vec(const DeviceView<double* [27]>& g, int e, int first) {
   return {g(e, first), g(e, first + 1), g(e, first + 2)};
 }
 
@@ -127,12 +135,14 @@ KOKKOS_INLINE_FUNCTION double beyond_edge(const WallElements& el, int edge, int 
              edge_outward_of(el, edge, side));
 }
 
-// p projects into triangle e deeper than the tolerance from each of its edges.
+// p projects into triangle e deeper than the tolerance from each of its edges. The same numbers
+// as beyond_edge from e's side, read from e's own geometry row rather than through its edges: on
+// a large mesh the chain of indirect loads is what a face test costs.
 KOKKOS_INLINE_FUNCTION bool face_claims(const WallElements& el, int e, Vec3 p) {
   for (int k = 0; k < 3; ++k) {
-    const int edge = el.features(e, k);
-    const int side = el.edge_owner(edge) == e ? 0 : 1;
-    if (!(beyond_edge(el, edge, side, p) < -el.feature_tolerance))
+    const Vec3 start = geometry_vec(el.geometry, e, 9 + 6 * k);
+    const Vec3 outward = geometry_vec(el.geometry, e, 12 + 6 * k);
+    if (!(dot(p - start, outward) < -el.feature_tolerance))
       return false;
   }
   return true;
@@ -173,43 +183,58 @@ KOKKOS_INLINE_FUNCTION SurfaceQuery point_feature_query(Vec3 point, Vec3 p, Vec3
   return q;
 }
 
-// The feature of triangle e that claims p, if e reports it: its face, or an edge or vertex
-// that e owns. A centre is claimed by exactly one feature of a mesh (up to the edge cases of a
-// tolerance band at obtuse corners, where it may be claimed by none), and the owner of an edge
-// or vertex is unique, so a sphere gets one contact per feature it touches.
+// The feature of triangle e that claims p, if e reports it and it lies within `reach` of p:
+// its face, or an edge or vertex that e owns. A centre is claimed by exactly one feature of a
+// mesh (up to the edge cases of a tolerance band at obtuse corners, where it may be claimed by
+// none), and the owner of an edge or vertex is unique, so a sphere gets one contact per feature
+// it touches. Features beyond the reach (by a margin far above rounding) are not tested: they
+// could only give a contact that does not touch, and on a fine mesh most candidates are such.
 KOKKOS_INLINE_FUNCTION SurfaceQuery claimed_triangle_feature(const WallElements& el, int e, Vec3 p,
-                                                             bool& applies) {
+                                                             double reach, bool& applies) {
   const Vec3 a = geometry_vec(el.geometry, e, 0), b = geometry_vec(el.geometry, e, 3),
              c = geometry_vec(el.geometry, e, 6);
   const Vec3 normal_raw = cross(b - a, c - a);
   const Vec3 normal = (1.0 / norm(normal_raw)) * normal_raw;
   const double height = dot(p - a, normal);
   const Vec3 facing = height >= 0 ? normal : -normal;
+  const double beyond = reach * (1 + 1e-9);
+  applies = false;
+  // Every feature of e lies in its plane and in e: nearer than neither, none can touch. The
+  // distance to e needs no topology, which on a large mesh is what the memory traffic is.
+  if (!(math::fabs(height) < beyond) || !(triangle_query(a, b, c, p).signed_distance < beyond))
+    return SurfaceQuery{};
   applies = true;
   if (face_claims(el, e, p))
     return point_feature_query(p - height * normal, p, facing, 0);
   for (int k = 0; k < 3; ++k) {
     const int edge = el.features(e, k);
-    if (el.edge_owner(edge) != e || !edge_claims(el, edge, p))
+    if (el.edge_owner(edge) != e)
       continue;
     const Vec3 start = load3(el.vertex_position, el.edge_vertices(edge, 0));
     const Vec3 d = load3(el.edge_direction, edge);
-    return point_feature_query(start + dot(p - start, d) * d, p, facing, 1 + k);
+    const Vec3 on_line = start + dot(p - start, d) * d;
+    if (!(norm2(p - on_line) < beyond * beyond) || !edge_claims(el, edge, p))
+      continue;
+    return point_feature_query(on_line, p, facing, 1 + k);
   }
   for (int k = 0; k < 3; ++k) {
     const int vertex = el.features(e, 3 + k);
-    if (el.vertex_owner(vertex) != e || !vertex_claims(el, vertex, p))
+    if (el.vertex_owner(vertex) != e)
       continue;
-    return point_feature_query(load3(el.vertex_position, vertex), p, facing, 4 + k);
+    const Vec3 v = load3(el.vertex_position, vertex);
+    if (!(norm2(p - v) < beyond * beyond) || !vertex_claims(el, vertex, p))
+      continue;
+    return point_feature_query(v, p, facing, 4 + k);
   }
   applies = false;
   return SurfaceQuery{};
 }
 
 // Closest point of element e to the reference-frame point p. `applies` is false when the
-// element does not take part (outside a cylinder's length, a feature another triangle reports).
+// element does not take part (outside a cylinder's length, a feature another triangle reports
+// or one beyond `reach`).
 KOKKOS_INLINE_FUNCTION SurfaceQuery query_element(const WallElements& el, int e, Vec3 p,
-                                                  bool& applies) {
+                                                  double reach, bool& applies) {
   applies = true;
   switch (el.kind(e)) {
   case plane_element:
@@ -217,7 +242,7 @@ KOKKOS_INLINE_FUNCTION SurfaceQuery query_element(const WallElements& el, int e,
   case cylinder_element:
     return cylinder_query(el, e, p, applies);
   default:
-    return claimed_triangle_feature(el, e, p, applies);
+    return claimed_triangle_feature(el, e, p, reach, applies);
   }
 }
 
@@ -310,24 +335,97 @@ inline void allocate_wall_contacts(WallContactList& list, bool rolling_state) {
   allocate_wall_contact_results(list);
 }
 
+KOKKOS_INLINE_FUNCTION double segment_distance(Vec3 a, Vec3 b, Vec3 p) {
+  const Vec3 ab = b - a;
+  const double t = dot(p - a, ab) / norm2(ab);
+  return norm(p - (a + (t < 0 ? 0.0 : t > 1 ? 1.0 : t) * ab));
+}
+
+// Whether triangle e may give a sphere of radius r a touching contact (through its face or a
+// feature it reports, see claimed_triangle_feature) while the sphere's centre stays within
+// `drift` of p. Each condition below is necessary for such a claim at some point within drift of
+// p: the claims' tests move by at most the drift (projections and distances to features are
+// 1-Lipschitz), the tolerance band is added, and a relative margin covers rounding. On a fine
+// mesh a sphere is within its reach of many triangles, but few of them can claim it.
+KOKKOS_INLINE_FUNCTION bool triangle_may_touch(const WallElements& el, int e, Vec3 p, double r,
+                                               double drift) {
+  const double margin = 1e-9 * (r + drift);
+  const double band = drift + el.feature_tolerance + margin; // slack of the claims' tests
+  const double touch = r + drift + margin;                   // of the distances
+  const Vec3 a = geometry_vec(el.geometry, e, 0), b = geometry_vec(el.geometry, e, 3),
+             c = geometry_vec(el.geometry, e, 6);
+  const Vec3 normal_raw = cross(b - a, c - a);
+  const Vec3 normal = (1.0 / norm(normal_raw)) * normal_raw;
+  const double height = dot(p - a, normal);
+  if (!(math::fabs(height) < touch))
+    return false;
+  if (triangle_query(a, b, c, p - height * normal).signed_distance <= band)
+    return true; // the face may claim it
+  for (int k = 0; k < 3; ++k) {
+    const int edge = el.features(e, k);
+    if (el.edge_owner(edge) != e)
+      continue;
+    bool beyond_faces = true;
+    for (int side = 0; side < el.edge_sides(edge); ++side)
+      beyond_faces = beyond_faces && beyond_edge(el, edge, side, p) >= -band;
+    const Vec3 start = load3(el.vertex_position, el.edge_vertices(edge, 0));
+    const Vec3 end = load3(el.vertex_position, el.edge_vertices(edge, 1));
+    if (beyond_faces && segment_distance(start, end, p) < touch)
+      return true;
+  }
+  for (int k = 0; k < 3; ++k) {
+    const int vertex = el.features(e, 3 + k);
+    if (el.vertex_owner(vertex) != e)
+      continue;
+    const Vec3 v = load3(el.vertex_position, vertex);
+    bool beyond_edges = norm(p - v) < touch;
+    for (int m = el.vertex_edge_start(vertex); m < el.vertex_edge_start(vertex + 1); ++m)
+      beyond_edges = beyond_edges && dot(p - v, load3(el.vertex_edge_direction, m)) <= band;
+    if (beyond_edges)
+      return true;
+  }
+  return false;
+}
+
+// Calls found(e) for every element within `reach` of world point x, walls and elements in
+// ascending order, each tested in its wall's reference frame at the wall's pose now. For a
+// sphere of radius r (point_contact; reach = r + drift), triangles that cannot claim it while
+// it drifts are left out.
+template <class Found>
+KOKKOS_INLINE_FUNCTION void for_each_element_within_reach(const WallSet& walls, Vec3 x, double r,
+                                                          double drift, bool point_contact,
+                                                          Found&& found) {
+  const double reach = r + drift;
+  for (int w = 0; w < walls.wall_count; ++w) {
+    const Vec3 p = walls.pose(w).to_reference(x);
+    for_each_candidate_element(walls.lookup(w), walls.cells, p, reach, [&](int e) {
+      if (!element_within_reach(walls.elements, e, p, reach))
+        return;
+      if (point_contact && walls.elements.kind(e) == triangle_element &&
+          !triangle_may_touch(walls.elements, e, p, r, drift))
+        return;
+      found(e);
+    });
+  }
+}
+
 // The candidate elements of each particle; no contact state yet (see allocate_wall_contacts).
+// Particles of shape sphere_shape touch a mesh through the feature that claims their centre
+// (SphereWallContact), and skin bounds how far a centre moves against a wall before the next
+// build: their lists hold only the triangles that may claim them meanwhile.
 inline WallContactList build_wall_contact_list(const ParticleViews& p, const WallSet& walls,
-                                               double skin) {
+                                               double skin, int sphere_shape) {
   const int n = p.count;
   WallContactList list;
   IndexView counts("wall_candidate_count", n);
-  auto el = walls.elements;
-  auto pose = walls.pose;
   auto x = p.position;
   auto radius = p.radius;
-  const int elements = el.count;
+  auto shape = p.shape;
   Kokkos::parallel_for(
       "kdem::wall_candidate_count", RangePolicy(0, n), KOKKOS_LAMBDA(int i) {
         int found = 0;
-        for (int e = 0; e < elements; ++e)
-          if (element_within_reach(el, e, pose(el.wall(e)).to_reference(load3(x, i)),
-                                   radius(i) + skin))
-            ++found;
+        for_each_element_within_reach(walls, load3(x, i), radius(i), skin, shape(i) == sphere_shape,
+                                      [&](int) { ++found; });
         counts(i) = found;
       });
   list.row_start = exclusive_scan_with_total(counts, list.entry_count);
@@ -340,14 +438,12 @@ inline WallContactList build_wall_contact_list(const ParticleViews& p, const Wal
   Kokkos::parallel_for(
       "kdem::wall_candidate_fill", RangePolicy(0, n), KOKKOS_LAMBDA(int i) {
         int slot = row_start(i);
-        for (int e = 0; e < elements; ++e) {
-          if (!element_within_reach(el, e, pose(el.wall(e)).to_reference(load3(x, i)),
-                                    radius(i) + skin))
-            continue;
-          element(slot) = e;
-          key(slot) = e;
-          ++slot;
-        }
+        for_each_element_within_reach(walls, load3(x, i), radius(i), skin, shape(i) == sphere_shape,
+                                      [&](int e) {
+                                        element(slot) = e;
+                                        key(slot) = e;
+                                        ++slot;
+                                      });
       });
   return list;
 }
@@ -530,7 +626,7 @@ void compute_wall_contacts(const std::string& label, const ParticleViews& p, con
   auto element = list.element;
   const WallSlots slots(list);
   Kokkos::parallel_for(
-      label, RangePolicy(0, count), KOKKOS_LAMBDA(int m) {
+      label, BalancedPolicy(0, count), KOKKOS_LAMBDA(int m) {
         const int i = row_of(m);
         for (int k = row_start(i); k < row_start(i + 1); ++k) {
           const int e = element(k);
@@ -554,7 +650,7 @@ struct SphereWallContact {
     WallContactGeometry contact;
     const Vec3 centre = wall.to_reference(load3(position, i));
     bool applies = true;
-    const SurfaceQuery q = query_element(el, e, centre, applies);
+    const SurfaceQuery q = query_element(el, e, centre, radius(i), applies);
     if (!applies)
       return contact;
     const ContactGeometry local =

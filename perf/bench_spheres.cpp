@@ -6,10 +6,15 @@
 //   kdem_bench_openmp --n N --steps M --repeat R [--warmup W] [--out FILE.json]
 //                     [--shape sphere|ellipsoid|cylinder|cube] [--cache-dir DIR]
 //                     [--write-data FILE.data] [--rebuild-every-step] [--unsorted]
-//                     [--kokkos-threads=T]
+//                     [--mesh-walls TRIANGLES] [--kokkos-threads=T]
 //
 // --unsorted gives the engine the particles in a shuffled order and switches its sort by cell
 // off (scene key sort_by_cell), for measuring what the sort gains.
+//
+// --mesh-walls T gives the bed, instead of the box's five planes, a mesh wall: the same open box
+// triangulated into about T triangles (each face cut into squares of one size, each square into
+// two triangles; at least ten triangles), written as binary STL into --cache-dir. For measuring
+// the wall broad phase against the mesh's size.
 //
 // After the timed repeats, one more run of M steps with every kernel fenced and timed by label
 // gives the time per kernel (`kernels` in the JSON), and the bytes the engine allocated in its
@@ -27,8 +32,10 @@
 // perf/run_bench.py can run the peer code on identical positions.
 #include <Kokkos_Core.hpp>
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -109,7 +116,8 @@ struct Options {
   std::string cache_dir = "perf/cache";
   std::string write_data;
   bool rebuild_every_step = false;
-  bool unsorted = false; // particles in a shuffled order, never sorted by cell
+  bool unsorted = false;        // particles in a shuffled order, never sorted by cell
+  long long mesh_triangles = 0; // > 0: the box as a mesh wall of about this many triangles
   BenchShape shape;
 };
 
@@ -130,6 +138,7 @@ const char* usage =
     "usage: kdem_bench_<backend> --n N --steps M --repeat R [--warmup W] [--out FILE.json]\n"
     "                            [--shape sphere|ellipsoid|cylinder|cube] [--cache-dir DIR]\n"
     "                            [--write-data FILE.data] [--rebuild-every-step] [--unsorted]\n"
+    "                            [--mesh-walls TRIANGLES]\n"
     "Kokkos options (e.g. --kokkos-threads=2) are passed to Kokkos.\n";
 
 Options parse(int argc, char** argv) {
@@ -165,14 +174,17 @@ Options parse(int argc, char** argv) {
       o.shape = bench_shape(value());
     else if (w == "--unsorted")
       o.unsorted = true;
+    else if (w == "--mesh-walls")
+      o.mesh_triangles = std::stoll(value());
     else if (w == "-h" || w == "--help") {
       std::fputs(usage, stdout);
       std::exit(0);
     } else
       throw std::runtime_error("unknown argument '" + w + "'");
   }
-  if (o.n < 1 || o.steps < 0 || o.repeat < 0 || o.warmup < 0)
-    throw std::runtime_error("--n must be positive; --steps, --repeat, --warmup not negative");
+  if (o.n < 1 || o.steps < 0 || o.repeat < 0 || o.warmup < 0 || o.mesh_triangles < 0)
+    throw std::runtime_error(
+        "--n must be positive; --steps, --repeat, --warmup, --mesh-walls not negative");
   if (!o.write_data.empty() && !o.shape.is_sphere())
     throw std::runtime_error("--write-data writes sphere beds only (LIGGGHTS granular atoms)");
   return o;
@@ -219,6 +231,77 @@ kdem::SceneConfig base_scene(const BenchParameters& p, const BenchShape& shape, 
   scene.materials = {bench_material(p)};
   scene.walls = {box_walls(p, lo, hi)};
   return scene;
+}
+
+// One face of the open box: the plane x_axis = at, spanned by axes u and w over [lo, hi].
+struct BoxFace {
+  int axis, u, w;
+  double at;
+};
+
+// Appends `face` cut into nu x nw squares, each as two triangles. Corners are computed from
+// their integer indices with the ends exact, so that faces meeting at an edge share its vertices
+// bit for bit (the mesh reader welds equal coordinates).
+void add_face(std::vector<std::array<float, 9>>& triangles, const BoxFace& face, const double lo[3],
+              const double hi[3], const int cuts[3]) {
+  auto corner = [&](int i, int j) {
+    double x[3];
+    x[face.axis] = face.at;
+    x[face.u] =
+        i == cuts[face.u] ? hi[face.u] : lo[face.u] + (hi[face.u] - lo[face.u]) * i / cuts[face.u];
+    x[face.w] =
+        j == cuts[face.w] ? hi[face.w] : lo[face.w] + (hi[face.w] - lo[face.w]) * j / cuts[face.w];
+    return std::array<float, 3>{float(x[0]), float(x[1]), float(x[2])};
+  };
+  for (int i = 0; i < cuts[face.u]; ++i)
+    for (int j = 0; j < cuts[face.w]; ++j) {
+      const auto a = corner(i, j), b = corner(i + 1, j), c = corner(i + 1, j + 1),
+                 d = corner(i, j + 1);
+      triangles.push_back({a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2]});
+      triangles.push_back({a[0], a[1], a[2], c[0], c[1], c[2], d[0], d[1], d[2]});
+    }
+}
+
+// The open box [lo, hi] (no top) as a binary STL of about `wanted` triangles in `dir`; returns
+// its path and the number of triangles.
+std::string write_mesh_box(const double lo[3], const double hi[3], long long wanted,
+                           const std::string& dir, long long& count) {
+  double extent[3], area = 0;
+  for (int a = 0; a < 3; ++a)
+    extent[a] = hi[a] - lo[a];
+  area = extent[0] * extent[1] + 2 * extent[2] * (extent[0] + extent[1]);
+  const double size = std::sqrt(2 * area / double(wanted));
+  int cuts[3];
+  for (int a = 0; a < 3; ++a)
+    cuts[a] = std::max(1, int(std::lround(extent[a] / size)));
+  std::vector<std::array<float, 9>> triangles;
+  const BoxFace faces[5] = {
+      {2, 0, 1, lo[2]}, {0, 1, 2, lo[0]}, {0, 1, 2, hi[0]}, {1, 0, 2, lo[1]}, {1, 0, 2, hi[1]}};
+  for (const BoxFace& face : faces)
+    add_face(triangles, face, lo, hi, cuts);
+  count = (long long)triangles.size();
+  std::ostringstream name;
+  name << "mesh_box_" << cuts[0] << "x" << cuts[1] << "x" << cuts[2] << ".stl";
+  const fs::path path = fs::path(dir) / name.str();
+  fs::create_directories(path.parent_path());
+  const std::string partial = path.string() + ".part";
+  std::ofstream out(partial, std::ios::binary);
+  const char header[80] = "kdem benchmark: open box";
+  out.write(header, sizeof header);
+  const std::uint32_t n = std::uint32_t(triangles.size());
+  out.write(reinterpret_cast<const char*>(&n), sizeof n);
+  for (const auto& t : triangles) {
+    const float normal[3] = {0, 0, 0};
+    const std::uint16_t attributes = 0;
+    out.write(reinterpret_cast<const char*>(normal), sizeof normal);
+    out.write(reinterpret_cast<const char*>(t.data()), sizeof(float) * 9);
+    out.write(reinterpret_cast<const char*>(&attributes), sizeof attributes);
+  }
+  out.close();
+  if (!out)
+    throw std::runtime_error("cannot write " + partial);
+  fs::rename(partial, path);
+  return path.string();
 }
 
 std::string tile_cache_name(const BenchParameters& p, const BenchShape& shape) {
@@ -447,6 +530,12 @@ int run(const Options& o) {
   auto memory = std::make_optional<kdem::KernelTimer>(false);
   kdem::SceneConfig scene = base_scene(p, o.shape, bed.lo, bed.hi);
   scene.sort_by_cell = !o.unsorted;
+  long long wall_triangles = 0;
+  if (o.mesh_triangles > 0) {
+    kdem::WallConfig& w = scene.walls[0];
+    w.kind = kdem::WallConfig::Kind::Mesh;
+    w.file = write_mesh_box(bed.lo, bed.hi, o.mesh_triangles, o.cache_dir, wall_triangles);
+  }
   kdem::Engine engine(scene);
   const int shape_id = o.shape.is_sphere() ? 0 : engine.shape_id(o.shape.name);
   std::vector<kdem::ParticleInit> inits(bed.spheres.size());
@@ -498,8 +587,10 @@ int run(const Options& o) {
        << ", \"threads\": " << kdem::Engine::backend_concurrency() << ", \"n\": " << n
        << ", \"steps\": " << o.steps << ", \"repeat\": " << o.repeat << ", \"warmup\": " << o.warmup
        << ", \"rebuild_every_step\": " << (o.rebuild_every_step ? "true" : "false")
-       << ", \"sorted_by_cell\": " << (o.unsorted ? "false" : "true")
-       << ", \"median_s\": " << json_number(median_s) << ", \"times_s\": [";
+       << ", \"sorted_by_cell\": " << (o.unsorted ? "false" : "true") << ", \"walls\": \""
+       << (o.mesh_triangles > 0 ? "mesh" : "planes") << "\""
+       << ", \"wall_triangles\": " << wall_triangles << ", \"median_s\": " << json_number(median_s)
+       << ", \"times_s\": [";
   for (std::size_t k = 0; k < times.size(); ++k)
     json << (k ? ", " : "") << json_number(times[k]);
   json << "], \"particle_steps_per_s\": " << json_number(rate)

@@ -164,38 +164,12 @@ void Engine::State::setup_domain() {
 }
 
 void Engine::State::setup_walls() {
-  table = build_wall_elements(scene.walls, domain_min, domain_max);
+  table = build_wall_elements(scene.walls, domain_min, domain_max,
+                              2 * largest_radius + effective_skin());
   motions = wall_motions(scene.walls);
   WallSet& w = walls;
   w.wall_count = int(scene.walls.size());
-  WallElements& el = w.elements;
-  el.count = int(table.kind.size());
-  el.kind = upload<int>("wall_element_kind", table.kind);
-  el.wall = upload<int>("wall_element_wall", table.wall);
-  el.geometry = upload_rows<DeviceView<double* [9]>>("wall_element_geometry", table.geometry);
-  el.features = upload_rows<DeviceView<int* [6]>>("wall_element_features", table.features);
-  el.edge_owner = upload<int>("wall_edge_owner", table.edge_owner);
-  el.edge_sides = upload<int>("wall_edge_sides", table.edge_sides);
-  el.edge_outward = upload_rows<DeviceView<double* [6]>>("wall_edge_outward", table.edge_outward);
-  el.feature_tolerance = table.feature_tolerance;
-  el.edge_vertices = upload_rows<DeviceView<int* [2]>>("wall_edge_vertices", table.edge_vertices);
-  el.edge_direction = upload_rows<Vec3View>("wall_edge_direction", table.edge_direction);
-  el.vertex_position = upload_rows<Vec3View>("wall_vertex_position", table.vertex_position);
-  el.vertex_triangle_start = upload<int>("wall_vertex_triangle_start", table.vertex_triangle_start);
-  el.vertex_triangle = upload<int>("wall_vertex_triangle", table.vertex_triangle);
-  el.vertex_owner = upload<int>("wall_vertex_owner", table.vertex_owner);
-  el.vertex_edge_start = upload<int>("wall_vertex_edge_start", table.vertex_edge_start);
-  el.vertex_edge_direction =
-      upload_rows<Vec3View>("wall_vertex_edge_direction", table.vertex_edge_direction);
-  el.triangle_normal = upload_rows<Vec3View>("wall_triangle_normal", table.triangle_normal);
-  el.edge_triangles =
-      upload_rows<DeviceView<int* [2]>>("wall_edge_triangles", table.edge_triangles);
-  el.vertex_corner = upload<int>("wall_vertex_corner", table.vertex_corner);
-  el.vertex_ring_start = upload<int>("wall_vertex_ring_start", table.vertex_ring_start);
-  std::vector<Vec3> ring;
-  for (const auto& p : table.vertex_ring)
-    ring.push_back(Vec3{p[0], p[1], p[2]});
-  el.vertex_ring = upload<Vec3>("wall_vertex_ring", ring);
+  w.elements = upload_wall_elements(table);
   std::vector<WallMotion> device_motions;
   for (const WallMotionData& m : motions) {
     WallMotion d = motion_of(m);
@@ -205,6 +179,15 @@ void Engine::State::setup_walls() {
   w.motion = upload<WallMotion>("wall_motion", device_motions);
   w.pose = DeviceView<WallPose*>("wall_pose", w.wall_count);
   update_wall_poses(w, time);
+  bin_walls(largest_radius + effective_skin());
+}
+
+// Mesh grids for particles of radius plus skin up to `reach` (a reach of 0, before any particle
+// size is known, gives grids for a reach of 1 mm; larger particles are then rebinned by
+// rebuild_lists).
+void Engine::State::bin_walls(double reach) {
+  wall_bins = bin_wall_elements(table, walls.wall_count, reach > 0 ? reach : 1e-3);
+  upload_wall_lookup(walls, wall_bins);
 }
 
 void Engine::State::setup_outlets() {
@@ -308,20 +291,19 @@ Obstacles Engine::State::current_obstacles() const {
 }
 
 // Against every wall active now, at its pose now. Host code: insertion is input (see
-// docs/architecture.md); it tests every element of every wall.
+// docs/architecture.md); it tests the elements of the sphere's cell of each mesh grid.
 bool Engine::State::sphere_crosses_wall(const Vec3d& centre, double r) const {
-  std::vector<WallPose> poses;
-  for (const WallMotionData& m : motions)
-    poses.push_back(wall_pose_at(motion_of(m), time));
   const Vec3 world = to_vec3(centre);
-  for (std::size_t e = 0; e < table.kind.size(); ++e) {
-    const int w = table.wall[e];
+  bool crosses = false;
+  for (int w = 0; w < int(motions.size()) && !crosses; ++w) {
     if (time < motions[w].active_from || time >= motions[w].active_until)
       continue;
-    if (sphere_crosses_element(table.kind[e], table.geometry[e], poses[w].to_reference(world), r))
-      return true;
+    const Vec3 p = wall_pose_at(motion_of(motions[w]), time).to_reference(world);
+    for_each_candidate_element(wall_bins.walls[w], wall_bins.cells, p, r, [&](int e) {
+      crosses = crosses || sphere_crosses_element(table.kind[e], table.geometry[e], p, r);
+    });
   }
-  return false;
+  return crosses;
 }
 
 void Engine::State::append_seeds(const std::vector<ParticleSeed>& seeds, int source) {
@@ -500,7 +482,9 @@ void Engine::State::rebuild_lists() {
   if (pairs.pair_count > 0)
     transfer_pair_history(fresh_pairs, pairs, old_rows, particles.id);
   pairs = fresh_pairs;
-  WallContactList fresh_walls = build_wall_contact_list(particles, walls, list_skin);
+  if (largest_radius + list_skin > wall_bins.reach)
+    bin_walls(largest_radius + list_skin);
+  WallContactList fresh_walls = build_wall_contact_list(particles, walls, list_skin, sphere_shape);
   assign_wall_slots_by_family<Families>(fresh_walls, particles, shape_families, families_present);
   allocate_wall_contacts(fresh_walls, rolling);
   if (wall_contacts.entry_count > 0)

@@ -12,6 +12,7 @@
 #include "engine.hpp"
 #include "generate.hpp"
 #include "wall_builder.hpp"
+#include "wall_tables.hpp"
 
 namespace kdem {
 
@@ -91,6 +92,7 @@ struct Engine::State {
   WallElementTable table;
   std::vector<WallMotionData> motions;
   WallSet walls;
+  WallBinTable wall_bins; // host copy of walls.lookup and walls.cells
   DeviceView<OutletBox*> outlets;
   int outlet_count = 0;
   int outlet_check_interval = 50;
@@ -118,6 +120,7 @@ struct Engine::State {
   void classify_families(const PairList& list);
   void setup_domain();
   void setup_walls();
+  void bin_walls(double reach);
   void setup_outlets();
   void setup_leaving_bounds();
   void start_energy_budget();

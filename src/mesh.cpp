@@ -150,6 +150,37 @@ TriangleMesh weld(const TriangleMesh& mesh, double tolerance) {
   return result;
 }
 
+TriangleMesh spatially_ordered(const TriangleMesh& mesh, const std::array<double, 3>& origin,
+                               double cell) {
+  std::vector<std::pair<std::array<long long, 3>, int>> order;
+  for (int t = 0; t < int(mesh.triangles.size()); ++t) {
+    std::array<double, 3> centroid{0, 0, 0};
+    for (int v : mesh.triangles[t])
+      for (int a = 0; a < 3; ++a)
+        centroid[a] += mesh.points[v][a] / 3;
+    std::array<long long, 3> key{}; // z, y, x: the order of the particles' cells
+    for (int a = 0; a < 3; ++a)
+      key[2 - a] = (long long)std::floor((centroid[a] - origin[a]) / cell);
+    order.emplace_back(key, t);
+  }
+  std::sort(order.begin(), order.end());
+  TriangleMesh result;
+  std::vector<int> new_index(mesh.points.size(), -1);
+  for (const auto& entry : order) {
+    std::array<int, 3> mapped{};
+    for (int k = 0; k < 3; ++k) {
+      const int v = mesh.triangles[entry.second][k];
+      if (new_index[v] < 0) {
+        new_index[v] = int(result.points.size());
+        result.points.push_back(mesh.points[v]);
+      }
+      mapped[k] = new_index[v];
+    }
+    result.triangles.push_back(mapped);
+  }
+  return result;
+}
+
 MeshTopology build_topology(const TriangleMesh& mesh) {
   MeshTopology topo;
   std::map<std::pair<int, int>, int> edge_of_vertices;

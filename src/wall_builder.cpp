@@ -198,11 +198,13 @@ void add_body_contact_topology(WallElementTable& t, const TriangleMesh& mesh,
   }
 }
 
-void add_mesh(WallElementTable& t, SurfaceBuilder& s, int wall, const WallConfig& c) {
+void add_mesh(WallElementTable& t, SurfaceBuilder& s, int wall, const WallConfig& c,
+              const Vec3d& grid_origin, double grid_cell) {
   TriangleMesh mesh = read_mesh(c.file);
   for (auto& p : mesh.points)
     for (int a = 0; a < 3; ++a)
       p[a] = p[a] * c.scale + c.translate[a];
+  mesh = spatially_ordered(mesh, grid_origin, grid_cell);
   const MeshTopology topo = build_topology(mesh);
   const int first_element = int(t.kind.size());
   const int first_edge = int(t.edge_owner.size());
@@ -255,8 +257,12 @@ void add_mesh(WallElementTable& t, SurfaceBuilder& s, int wall, const WallConfig
 } // namespace
 
 WallElementTable build_wall_elements(const std::vector<WallConfig>& walls, const Vec3d& domain_min,
-                                     const Vec3d& domain_max) {
+                                     const Vec3d& domain_max, double particle_cell) {
   WallElementTable table;
+  const double largest_side =
+      std::max({domain_max[0] - domain_min[0], domain_max[1] - domain_min[1],
+                domain_max[2] - domain_min[2], 1e-300});
+  const double grid_cell = particle_cell > 0 ? particle_cell : largest_side / 64;
   const double half_patch =
       0.5 * std::sqrt(dot(sub(domain_max, domain_min), sub(domain_max, domain_min)));
   for (int w = 0; w < int(walls.size()); ++w) {
@@ -274,7 +280,7 @@ WallElementTable build_wall_elements(const std::vector<WallConfig>& walls, const
       add_cylinder(table, surface, w, c);
       break;
     case WallConfig::Kind::Mesh:
-      add_mesh(table, surface, w, c);
+      add_mesh(table, surface, w, c, domain_min, grid_cell);
       break;
     }
     table.surface_points.push_back(std::move(surface.points));

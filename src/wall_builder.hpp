@@ -41,9 +41,11 @@ struct WallMotionData {
   std::string material;
 };
 
-// `domain_min/max` sizes the drawn patch of infinite planes.
+// `domain_min/max` sizes the drawn patch of infinite planes. Mesh triangles are stored in the
+// order of their cells in the particles' grid (from domain_min, cells of `particle_cell`; 0: a
+// 64th of the domain's largest side), see spatially_ordered.
 WallElementTable build_wall_elements(const std::vector<WallConfig>& walls, const Vec3d& domain_min,
-                                     const Vec3d& domain_max);
+                                     const Vec3d& domain_max, double particle_cell = 0);
 std::vector<WallMotionData> wall_motions(const std::vector<WallConfig>& walls);
 
 // Bounding box of the walls that have one (boxes, cylinders, meshes); false if none has.

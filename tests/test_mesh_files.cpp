@@ -2,6 +2,8 @@
 // clear errors for a missing, empty or unknown file.
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -126,3 +128,60 @@ TEST(MeshFiles, MissingEmptyAndUnknownFilesAreRefusedByName) {
 }
 
 } // namespace
+
+namespace {
+
+// A 6 x 5 grid of squares at z = 0 in shuffled order, with an unused point.
+TriangleMesh shuffled_grid() {
+  TriangleMesh mesh;
+  const int nx = 6, ny = 5;
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i)
+      mesh.points.push_back({0.01 * i, 0.01 * j, 0});
+  mesh.points.push_back({5, 5, 5});
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const int a = j * (nx + 1) + i, b = a + 1, c = a + nx + 2, d = a + nx + 1;
+      mesh.triangles.push_back({a, b, c});
+      mesh.triangles.push_back({a, c, d});
+    }
+  std::vector<std::array<int, 3>> shuffled;
+  for (std::size_t k = 0; k < mesh.triangles.size(); ++k)
+    shuffled.push_back(mesh.triangles[(k * 37) % mesh.triangles.size()]);
+  mesh.triangles = shuffled;
+  return mesh;
+}
+
+std::multiset<std::array<std::array<double, 3>, 3>> corner_positions(const TriangleMesh& mesh) {
+  std::multiset<std::array<std::array<double, 3>, 3>> corners;
+  for (const auto& t : mesh.triangles)
+    corners.insert({mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]});
+  return corners;
+}
+
+} // namespace
+
+// The same triangles with their corners in their order, in the order of the cells of their
+// centroids (x fastest, then y, then z), points in the order of first use and none unused.
+TEST(MeshFiles, SpatialOrderKeepsTheTrianglesAndSortsThemByCell) {
+  const TriangleMesh mesh = shuffled_grid();
+  const double cell = 0.02;
+  const TriangleMesh ordered = kdem::spatially_ordered(mesh, {0, 0, 0}, cell);
+  EXPECT_EQ(corner_positions(ordered), corner_positions(mesh));
+  EXPECT_EQ(ordered.points.size(), mesh.points.size() - 1);
+  long previous_key = -1;
+  int next_new_point = 0;
+  for (const auto& t : ordered.triangles) {
+    double cx = 0, cy = 0;
+    for (int v : t) {
+      cx += ordered.points[v][0] / 3, cy += ordered.points[v][1] / 3;
+      if (v >= next_new_point) {
+        EXPECT_EQ(v, next_new_point);
+        ++next_new_point;
+      }
+    }
+    const long key = long(std::floor(cy / cell)) * 1000 + long(std::floor(cx / cell));
+    EXPECT_GE(key, previous_key);
+    previous_key = key;
+  }
+}

@@ -1,0 +1,81 @@
+#pragma once
+// Triangle meshes for the tests: small vector helpers, STL files in a folder of the test's own,
+// mesh walls.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "src/scene.hpp"
+
+namespace kdem::testing {
+
+using Triangle = std::array<Vec3d, 3>;
+
+inline Vec3d sub(const Vec3d& a, const Vec3d& b) {
+  return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+inline double dot(const Vec3d& a, const Vec3d& b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+inline Vec3d cross(const Vec3d& a, const Vec3d& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+inline Vec3d unit(const Vec3d& a) {
+  const double n = std::sqrt(dot(a, a));
+  return {a[0] / n, a[1] / n, a[2] / n};
+}
+inline Vec3d along(const Vec3d& origin, const Vec3d& direction, double distance) {
+  return {origin[0] + distance * direction[0], origin[1] + distance * direction[1],
+          origin[2] + distance * direction[2]};
+}
+
+// A folder of its own for each test's STL files, removed afterwards.
+class MeshFolder {
+public:
+  MeshFolder() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string name = std::string("kdem_mesh_") + info->test_suite_name() + "_" + info->name();
+    for (char& c : name)
+      if (c == '/')
+        c = '_';
+    path_ = std::filesystem::temp_directory_path() / name;
+    std::filesystem::remove_all(path_);
+    std::filesystem::create_directories(path_);
+  }
+  ~MeshFolder() { std::filesystem::remove_all(path_); }
+  // Writes an ASCII STL file and returns its path.
+  std::string write(const std::string& name, const std::vector<Triangle>& triangles) const {
+    const std::string file = (path_ / (name + ".stl")).string();
+    std::ofstream out(file);
+    out.precision(17);
+    out << "solid " << name << "\n";
+    for (const Triangle& t : triangles) {
+      const Vec3d n = unit(cross(sub(t[1], t[0]), sub(t[2], t[0])));
+      out << "  facet normal " << n[0] << " " << n[1] << " " << n[2] << "\n    outer loop\n";
+      for (const Vec3d& v : t)
+        out << "      vertex " << v[0] << " " << v[1] << " " << v[2] << "\n";
+      out << "    endloop\n  endfacet\n";
+    }
+    out << "endsolid " << name << "\n";
+    return file;
+  }
+
+private:
+  std::filesystem::path path_;
+};
+
+inline WallConfig mesh_wall(const std::string& material, const std::string& file) {
+  WallConfig w;
+  w.kind = WallConfig::Kind::Mesh;
+  w.name = "mesh";
+  w.material = material;
+  w.file = file;
+  return w;
+}
+
+} // namespace kdem::testing
