@@ -165,7 +165,7 @@ void Engine::State::setup_domain() {
 
 void Engine::State::setup_walls() {
   table = build_wall_elements(scene.walls, domain_min, domain_max,
-                              2 * largest_radius + effective_skin());
+                              largest_radius > 0 ? 2 * largest_radius + effective_skin() : 0);
   motions = wall_motions(scene.walls);
   WallSet& w = walls;
   w.wall_count = int(scene.walls.size());

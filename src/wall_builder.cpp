@@ -119,6 +119,17 @@ int find_root(std::vector<int>& parent, int k) {
   return k;
 }
 
+// The median length of the triangles' first edges.
+double median_edge(const TriangleMesh& mesh) {
+  std::vector<double> lengths;
+  for (const auto& t : mesh.triangles) {
+    const Vec3d d = sub(mesh.points[t[1]], mesh.points[t[0]]);
+    lengths.push_back(std::sqrt(dot(d, d)));
+  }
+  std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
+  return lengths[lengths.size() / 2];
+}
+
 double mesh_extent(const TriangleMesh& mesh) {
   double extent = 0;
   for (const auto& p : mesh.points)
@@ -204,7 +215,7 @@ void add_mesh(WallElementTable& t, SurfaceBuilder& s, int wall, const WallConfig
   for (auto& p : mesh.points)
     for (int a = 0; a < 3; ++a)
       p[a] = p[a] * c.scale + c.translate[a];
-  mesh = spatially_ordered(mesh, grid_origin, grid_cell);
+  mesh = spatially_ordered(mesh, grid_origin, grid_cell > 0 ? grid_cell : 2 * median_edge(mesh));
   const MeshTopology topo = build_topology(mesh);
   const int first_element = int(t.kind.size());
   const int first_edge = int(t.edge_owner.size());
@@ -259,10 +270,6 @@ void add_mesh(WallElementTable& t, SurfaceBuilder& s, int wall, const WallConfig
 WallElementTable build_wall_elements(const std::vector<WallConfig>& walls, const Vec3d& domain_min,
                                      const Vec3d& domain_max, double particle_cell) {
   WallElementTable table;
-  const double largest_side =
-      std::max({domain_max[0] - domain_min[0], domain_max[1] - domain_min[1],
-                domain_max[2] - domain_min[2], 1e-300});
-  const double grid_cell = particle_cell > 0 ? particle_cell : largest_side / 64;
   const double half_patch =
       0.5 * std::sqrt(dot(sub(domain_max, domain_min), sub(domain_max, domain_min)));
   for (int w = 0; w < int(walls.size()); ++w) {
@@ -280,7 +287,7 @@ WallElementTable build_wall_elements(const std::vector<WallConfig>& walls, const
       add_cylinder(table, surface, w, c);
       break;
     case WallConfig::Kind::Mesh:
-      add_mesh(table, surface, w, c, domain_min, grid_cell);
+      add_mesh(table, surface, w, c, domain_min, particle_cell);
       break;
     }
     table.surface_points.push_back(std::move(surface.points));

@@ -42,8 +42,8 @@ struct WallMotionData {
 };
 
 // `domain_min/max` sizes the drawn patch of infinite planes. Mesh triangles are stored in the
-// order of their cells in the particles' grid (from domain_min, cells of `particle_cell`; 0: a
-// 64th of the domain's largest side), see spatially_ordered.
+// order of their cells in the particles' grid (from domain_min, cells of `particle_cell`; 0, when
+// the particle size is not known yet: twice the mesh's median edge), see spatially_ordered.
 WallElementTable build_wall_elements(const std::vector<WallConfig>& walls, const Vec3d& domain_min,
                                      const Vec3d& domain_max, double particle_cell = 0);
 std::vector<WallMotionData> wall_motions(const std::vector<WallConfig>& walls);
