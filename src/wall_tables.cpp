@@ -29,11 +29,11 @@ void grown_box(const WallElementTable& table, int first, int end, double reach, 
       }
 }
 
-// Sizes the grid of `wall` over [lo, hi]: cells of 2 reach, grown by a quarter until the grid has
+// Sizes the grid of `wall` over [lo, hi]: cells of the reach, grown by a quarter until the grid has
 // at most max_cells cells.
 void size_grid(WallLookup& wall, const double lo[3], const double hi[3], double reach,
                long max_cells) {
-  wall.cell_size = 2 * reach;
+  wall.cell_size = reach;
   for (;;) {
     long total = 1;
     for (int a = 0; a < 3; ++a) {

@@ -26,8 +26,8 @@ struct WallBinTable {
 };
 
 // The lookup of `wall_count` walls whose elements `table` holds (each wall's contiguous), with
-// grids over the triangles of mesh walls for `reach` (> 0): cells of 2 reach, grown while the grid
-// would have more than max(4096, 16 x its triangles) cells.
+// grids over the triangles of mesh walls for `reach` (> 0): cells of the reach, grown while the
+// grid would have more than max(4096, 16 x its triangles) cells.
 WallBinTable bin_wall_elements(const WallElementTable& table, int wall_count, double reach);
 
 WallElements upload_wall_elements(const WallElementTable& table);
