@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 #include "mesh.hpp"
@@ -119,6 +120,27 @@ int find_root(std::vector<int>& parent, int k) {
   return k;
 }
 
+// A sphere's mesh contact decides between a face and its edges by each edge's in-plane
+// directions on its two sides; an edge of three or more triangles has no such pair, and its
+// contacts would be wrong, not merely approximate. Such meshes are refused with the edge named.
+void refuse_non_manifold_edges(const TriangleMesh& mesh, const MeshTopology& topo,
+                               const WallConfig& c) {
+  for (std::size_t e = 0; e < topo.edge_triangles.size(); ++e) {
+    if (topo.edge_triangles[e].size() <= 2)
+      continue;
+    const auto& a = mesh.points[topo.edge_vertices[e][0]];
+    const auto& b = mesh.points[topo.edge_vertices[e][1]];
+    std::ostringstream msg;
+    msg.precision(6);
+    msg << "mesh wall '" << c.name << "' (" << c.file << "): the edge from (" << a[0] << ", "
+        << a[1] << ", " << a[2] << ") to (" << b[0] << ", " << b[1] << ", " << b[2]
+        << ") is shared by " << topo.edge_triangles[e].size()
+        << " triangles (after scaling); mesh contacts need every edge shared by one or two "
+           "triangles: split the mesh into walls of their own where surfaces meet";
+    throw std::runtime_error(msg.str());
+  }
+}
+
 // The median length of the triangles' first edges.
 double median_edge(const TriangleMesh& mesh) {
   std::vector<double> lengths;
@@ -217,6 +239,7 @@ void add_mesh(WallElementTable& t, SurfaceBuilder& s, int wall, const WallConfig
       p[a] = p[a] * c.scale + c.translate[a];
   mesh = spatially_ordered(mesh, grid_origin, grid_cell > 0 ? grid_cell : 2 * median_edge(mesh));
   const MeshTopology topo = build_topology(mesh);
+  refuse_non_manifold_edges(mesh, topo, c);
   const int first_element = int(t.kind.size());
   const int first_edge = int(t.edge_owner.size());
   const int first_vertex = int(t.vertex_owner.size());

@@ -11,6 +11,7 @@
 #include <set>
 
 #include "src/mesh.hpp"
+#include "src/wall_builder.hpp"
 
 namespace {
 
@@ -183,5 +184,33 @@ TEST(MeshFiles, SpatialOrderKeepsTheTrianglesAndSortsThemByCell) {
     const long key = long(std::floor(cy / cell)) * 1000 + long(std::floor(cx / cell));
     EXPECT_GE(key, previous_key);
     previous_key = key;
+  }
+}
+
+// Three triangles on one edge (a fin on a floor): refused, naming the wall, its file and the
+// edge; the floor alone (two triangles on the edge) is accepted.
+TEST(MeshFiles, EdgeOfThreeTrianglesIsRefusedByName) {
+  const std::string floor = "solid fin\n"
+                            "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+                            "vertex 0.5 1 0\nendloop\nendfacet\n"
+                            "facet normal 0 0 1\nouter loop\nvertex 1 0 0\nvertex 0 0 0\n"
+                            "vertex 0.5 -1 0\nendloop\nendfacet\n";
+  const std::string fin = "facet normal 0 1 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+                          "vertex 0.5 0 1\nendloop\nendfacet\n";
+  kdem::WallConfig wall;
+  wall.kind = kdem::WallConfig::Kind::Mesh;
+  wall.name = "fin";
+  wall.file = write_text("floor.stl", floor + "endsolid fin\n").string();
+  EXPECT_NO_THROW(kdem::build_wall_elements({wall}, {-1, -1, -1}, {1, 1, 1}));
+  wall.file = write_text("fin.stl", floor + fin + "endsolid fin\n").string();
+  try {
+    kdem::build_wall_elements({wall}, {-1, -1, -1}, {1, 1, 1});
+    FAIL() << "a mesh with an edge of three triangles was accepted";
+  } catch (const std::runtime_error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("mesh wall 'fin' (" + wall.file + ")"), std::string::npos) << message;
+    EXPECT_NE(message.find("from (0, 0, 0) to (1, 0, 0) is shared by 3 triangles"),
+              std::string::npos)
+        << message;
   }
 }
