@@ -10,6 +10,7 @@
 // the candidates come out in the same order as from a loop over all elements.
 #include "../shapes/math.hpp"
 #include "../shapes/vec3.hpp"
+#include "ragged_table.hpp"
 
 namespace kdem {
 
@@ -36,25 +37,43 @@ struct WallLookup {
   }
 };
 
-// Calls visit(e) for every element of `wall` that may lie within `reach` of the reference-frame
-// point p, in ascending order: the elements listed in p's cell, or all of the wall's when it has
-// no grid or its grid was built for a smaller reach. `cells` is a ragged table of element ids
-// (size(row), operator()(row, k)), device or host.
-template <class Cells, class Visit>
-KOKKOS_INLINE_FUNCTION void for_each_candidate_element(const WallLookup& wall, const Cells& cells,
-                                                       Vec3 p, double reach, Visit&& visit) {
+// Where the elements of `wall` that may lie within `reach` of the reference-frame point p are:
+// all of the wall's (no grid, or a grid built for a smaller reach), the list of the grid's cell
+// row `row`, or none (p outside the grid).
+struct CandidateSource {
+  bool every_element = false;
+  int row = -1;
+};
+
+KOKKOS_INLINE_FUNCTION CandidateSource candidate_source(const WallLookup& wall, Vec3 p,
+                                                        double reach) {
+  CandidateSource source;
   if (!wall.binned() || reach > wall.reach) {
+    source.every_element = true;
+    return source;
+  }
+  const int cell = wall.cell_of(p);
+  source.row = cell < 0 ? -1 : wall.first_cell + cell;
+  return source;
+}
+
+// Calls visit(e) for every element of `wall` that may lie within `reach` of p, in ascending
+// order (see candidate_source); `cells` is the device table of cell lists.
+template <class Visit>
+KOKKOS_INLINE_FUNCTION void for_each_candidate_element(const WallLookup& wall,
+                                                       const RaggedTable<int>& cells, Vec3 p,
+                                                       double reach, Visit&& visit) {
+  const CandidateSource source = candidate_source(wall, p, reach);
+  if (source.every_element) {
     for (int e = wall.first_element; e < wall.end_element; ++e)
       visit(e);
     return;
   }
-  const int cell = wall.cell_of(p);
-  if (cell < 0)
+  if (source.row < 0)
     return;
-  const int row = wall.first_cell + cell;
-  const int listed = cells.size(row);
+  const int listed = cells.size(source.row);
   for (int k = 0; k < listed; ++k)
-    visit(cells(row, k));
+    visit(cells(source.row, k));
 }
 
 } // namespace kdem

@@ -299,7 +299,7 @@ bool Engine::State::sphere_crosses_wall(const Vec3d& centre, double r) const {
     if (time < motions[w].active_from || time >= motions[w].active_until)
       continue;
     const Vec3 p = wall_pose_at(motion_of(motions[w]), time).to_reference(world);
-    for_each_candidate_element(wall_bins.walls[w], wall_bins.cells, p, r, [&](int e) {
+    for_each_candidate_on_host(wall_bins, w, p, r, [&](int e) {
       crosses = crosses || sphere_crosses_element(table.kind[e], table.geometry[e], p, r);
     });
   }

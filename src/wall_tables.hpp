@@ -30,6 +30,22 @@ struct WallBinTable {
 // grid would have more than max(4096, 16 x its triangles) cells.
 WallBinTable bin_wall_elements(const WallElementTable& table, int wall_count, double reach);
 
+// The host side of for_each_candidate_element: visit(e) for the elements of wall w that may lie
+// within `reach` of the reference-frame point p, ascending.
+template <class Visit>
+void for_each_candidate_on_host(const WallBinTable& bins, int w, Vec3 p, double reach,
+                                Visit&& visit) {
+  const WallLookup& wall = bins.walls[w];
+  const CandidateSource source = candidate_source(wall, p, reach);
+  if (source.every_element) {
+    for (int e = wall.first_element; e < wall.end_element; ++e)
+      visit(e);
+  } else if (source.row >= 0) {
+    for (int k = 0; k < bins.cells.size(source.row); ++k)
+      visit(bins.cells(source.row, k));
+  }
+}
+
 WallElements upload_wall_elements(const WallElementTable& table);
 void upload_wall_lookup(WallSet& walls, const WallBinTable& bins);
 

@@ -78,8 +78,7 @@ TEST(WallBins, TheCellOfAPointListsEveryTriangleWithinReach) {
     }
     const double r = fraction(rng) * reach;
     std::vector<int> candidates;
-    for_each_candidate_element(bins.walls[0], bins.cells, p, r,
-                               [&](int e) { candidates.push_back(e); });
+    for_each_candidate_on_host(bins, 0, p, r, [&](int e) { candidates.push_back(e); });
     ASSERT_TRUE(std::is_sorted(candidates.begin(), candidates.end()));
     ASSERT_EQ(std::adjacent_find(candidates.begin(), candidates.end()), candidates.end());
     const std::vector<int> near = triangles_within(table, p, r);
@@ -92,8 +91,7 @@ TEST(WallBins, TheCellOfAPointListsEveryTriangleWithinReach) {
   EXPECT_LT(double(listed) / 4000, 0.03 * 4800);
   // Beyond the grid's reach the lookup gives every element.
   int all = 0;
-  for_each_candidate_element(bins.walls[0], bins.cells, Vec3{0, 0, 0.1}, 1.5 * reach,
-                             [&](int) { ++all; });
+  for_each_candidate_on_host(bins, 0, Vec3{0, 0, 0.1}, 1.5 * reach, [&](int) { ++all; });
   EXPECT_EQ(all, 4800);
 }
 
