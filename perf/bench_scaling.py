@@ -139,9 +139,7 @@ def main():
     parser.add_argument("--work-scale", type=float, default=1.0)
     parser.add_argument("--no-sort-check", dest="sort_check", action="store_false",
                         help="skip the unsorted run at each shape's largest N")
-    parser.add_argument("--quiet-wait", type=float, default=300)
-    parser.add_argument("--retries", type=int, default=2)
-    parser.add_argument("--foreign-limit", type=float, default=0.05)
+    run_bench.add_quiet_arguments(parser)
     parser.add_argument("--bin", default=str(ROOT / "build" / "openmp" / "bin"))
     parser.add_argument("--out", default=str(ROOT / "perf" / "results" / "bench_scaling.json"))
     parser.add_argument("--plot", default=str(ROOT / "docs" / "img" / "bench_scaling.png"))

@@ -91,6 +91,17 @@ def wait_for_quiet(max_wait_s, threshold=0.1):
 WAITED = [0.0]  # seconds spent waiting for a quiet machine, not counted in the time budget
 
 
+def add_quiet_arguments(parser, retries=2):
+    """The options of measured_run: how long to wait for a quiet machine, how often to repeat a
+    disturbed run and what share of the cores other processes may take."""
+    parser.add_argument("--quiet-wait", type=float, default=300,
+                        help="seconds to wait, before each run, for other processes to go quiet")
+    parser.add_argument("--retries", type=int, default=retries,
+                        help="runs repeated while other processes disturbed them")
+    parser.add_argument("--foreign-limit", type=float, default=0.05,
+                        help="share of the cores other processes may take during a run")
+
+
 def measured_run(run, args):
     """Runs run() (which returns a record with wall_s and foreign_cpu_s) after waiting for a
     quiet machine; repeats it up to args.retries times while other processes took more than
@@ -455,12 +466,7 @@ def main():
                         help="repeats of the variant with lists rebuilt every step (0: none)")
     parser.add_argument("--rebuild-work", type=float, default=5e6,
                         help="particle-steps per timed run (and warm-up) of that variant")
-    parser.add_argument("--quiet-wait", type=float, default=300,
-                        help="seconds to wait, before each run, for other processes to go quiet")
-    parser.add_argument("--retries", type=int, default=3,
-                        help="runs repeated while other processes disturbed them")
-    parser.add_argument("--foreign-limit", type=float, default=0.05,
-                        help="share of the cores other processes may take during a run")
+    add_quiet_arguments(parser, retries=3)
     parser.add_argument("--budget-min", type=float, default=30,
                         help="skip sizes whose predicted time would exceed this total")
     parser.add_argument("--build-dir", default=str(ROOT / "build" / "openmp"))
