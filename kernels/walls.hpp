@@ -609,6 +609,90 @@ KOKKOS_INLINE_FUNCTION void store_wall_contacts(const WallSlots& slots, int k,
   store3(slots.torque_on_i, k, torque);
 }
 
+// The history of a point contact with a triangle that ended at this step (element -1: none).
+struct ReleasedHistory {
+  int element = -1;
+  Vec3 spring, rolling;
+};
+
+KOKKOS_INLINE_FUNCTION bool triangles_share_a_vertex(const WallElements& el, int a, int b) {
+  for (int u = 3; u < 6; ++u)
+    for (int v = 3; v < 6; ++v)
+      if (el.features(a, u) == el.features(b, v))
+        return true;
+  return false;
+}
+
+// Tangential history across the triangles of a mesh, for bodies with one contact point per
+// entry: a contact that starts on triangle e (its slot holds no history) while the particle's
+// contact with a neighbouring triangle of the same wall (one sharing a vertex) ends takes that
+// contact's spring and rolling torque, so that a sphere rolling or sliding over a triangulated
+// surface keeps its spring from one triangle to the next. The ending contact is one of the
+// particle's entries before k that stopped touching at this step (`released`), or one after k
+// that held a history and whose contact, evaluated now, does not touch. Bodies with several
+// contacts per entry (K > 1) keep theirs per feature and are left alone.
+template <int K> struct WallHandover {
+  template <class Entries, class ContactOf>
+  KOKKOS_INLINE_FUNCTION static void apply(const WallElements&, const WallSlots&, const Entries&,
+                                           int, const ContactOf&, int, int, const WallPose&, bool,
+                                           ReleasedHistory&) {}
+};
+
+template <> struct WallHandover<1> {
+  KOKKOS_INLINE_FUNCTION static bool holds_history(const WallSlots& slots, int s) {
+    const bool rolling =
+        slots.rolling.extent(0) > 0 &&
+        (slots.rolling(s, 0) != 0 || slots.rolling(s, 1) != 0 || slots.rolling(s, 2) != 0);
+    return slots.spring(s, 0) != 0 || slots.spring(s, 1) != 0 || slots.spring(s, 2) != 0 || rolling;
+  }
+
+  KOKKOS_INLINE_FUNCTION static void give(const WallSlots& slots, int s, Vec3 spring,
+                                          Vec3 rolling) {
+    store3(slots.spring, s, spring);
+    if (slots.rolling.extent(0) > 0)
+      store3(slots.rolling, s, rolling);
+  }
+
+  KOKKOS_INLINE_FUNCTION static Vec3 rolling_of(const WallSlots& slots, int s) {
+    return slots.rolling.extent(0) > 0 ? load3(slots.rolling, s) : Vec3{};
+  }
+
+  template <class Entries, class ContactOf>
+  KOKKOS_INLINE_FUNCTION static void
+  apply(const WallElements& el, const WallSlots& slots, const Entries& element, int row_end,
+        const ContactOf& contact_of, int i, int k, const WallPose& wall, bool touches,
+        ReleasedHistory& released) {
+    const int e = element(k);
+    if (el.kind(e) != triangle_element)
+      return;
+    const int s = slots.slots.first(k);
+    const bool held = holds_history(slots, s);
+    if (held && !touches) {
+      released = ReleasedHistory{e, load3(slots.spring, s), rolling_of(slots, s)};
+      return;
+    }
+    if (held || !touches)
+      return;
+    if (released.element >= 0 && el.wall(released.element) == el.wall(e) &&
+        triangles_share_a_vertex(el, released.element, e)) {
+      give(slots, s, released.spring, released.rolling);
+      released.element = -1;
+      return;
+    }
+    for (int later = k + 1; later < row_end; ++later) {
+      const int f = element(later), t = slots.slots.first(later);
+      if (el.kind(f) != triangle_element || el.wall(f) != el.wall(e) || !holds_history(slots, t) ||
+          !triangles_share_a_vertex(el, e, f))
+        continue;
+      if (contact_of(i, f, wall).geometry.touching)
+        continue; // still touching: not a contact that moved to e
+      give(slots, s, load3(slots.spring, t), rolling_of(slots, t));
+      give(slots, t, Vec3{}, Vec3{}); // handed over once
+      return;
+    }
+  }
+};
+
 // The wall contacts of `count` particles (the m-th particle is row row_of(m)), stored per
 // candidate entry like pair contacts and summed per particle by sum_forces. The family's
 // functor contact_of gives, for particle i and element e of a wall at its pose, one contact
@@ -625,15 +709,19 @@ void compute_wall_contacts(const std::string& label, const ParticleViews& p, con
   auto row_start = list.row_start;
   auto element = list.element;
   const WallSlots slots(list);
+  auto entries_end = list.row_start;
   Kokkos::parallel_for(
       label, BalancedPolicy(0, count), KOKKOS_LAMBDA(int m) {
         const int i = row_of(m);
+        ReleasedHistory released;
         for (int k = row_start(i); k < row_start(i + 1); ++k) {
           const int e = element(k);
           const WallPose wall = pose(el.wall(e));
           WallContacts<K> found;
           if (wall.active != 0)
             find_wall_contacts(contact_of, i, e, wall, found);
+          WallHandover<K>::apply(el, slots, element, entries_end(i + 1), contact_of, i, k, wall,
+                                 found.count > 0, released);
           store_wall_contacts<Law>(slots, k, p, i, wall, found, table, dt);
         }
       });

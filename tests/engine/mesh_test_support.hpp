@@ -78,4 +78,16 @@ inline WallConfig mesh_wall(const std::string& material, const std::string& file
   return w;
 }
 
+// Flat square [-h, h]^2 at height z, cut into n x n squares of two triangles each.
+inline std::vector<Triangle> flat_grid(double h, double z, int n) {
+  std::vector<Triangle> t;
+  auto corner = [&](int i, int j) { return Vec3d{-h + 2 * h * i / n, -h + 2 * h * j / n, z}; };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      t.push_back(Triangle{corner(i, j), corner(i + 1, j), corner(i + 1, j + 1)});
+      t.push_back(Triangle{corner(i, j), corner(i + 1, j + 1), corner(i, j + 1)});
+    }
+  return t;
+}
+
 } // namespace kdem::testing

@@ -157,18 +157,6 @@ TEST(WallBins, BinnedCandidateListIsTheListFromEveryElement) {
   EXPECT_EQ(candidates(bin_wall_elements(table, 3, 4e-3)), reference);
 }
 
-// Flat square [-h, h]^2 at height z, cut into n x n squares of two triangles each.
-std::vector<Triangle> flat_grid(double h, double z, int n) {
-  std::vector<Triangle> t;
-  auto corner = [&](int i, int j) { return Vec3d{-h + 2 * h * i / n, -h + 2 * h * j / n, z}; };
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      t.push_back(Triangle{corner(i, j), corner(i + 1, j), corner(i + 1, j + 1)});
-      t.push_back(Triangle{corner(i, j), corner(i + 1, j + 1), corner(i, j + 1)});
-    }
-  return t;
-}
-
 // A valley along y at x = x0 (concave edge), faces rising at 30 degrees to both sides.
 std::vector<Triangle> valley(double x0, double h, double z) {
   const double rise = h * std::tan(M_PI / 6);
