@@ -698,7 +698,8 @@ template <> struct WallHandover<1> {
 // functor contact_of gives, for particle i and element e of a wall at its pose, one contact
 // (max_contacts == 1: WallContactGeometry operator()(i, e, pose)) or several
 // (void operator()(i, e, pose, WallContacts<max_contacts>&)); SphereWallContact below, each
-// family's wall_contact.
+// family's wall_contact. A particle's entries are taken in order by one thread, so that a
+// contact moving between triangles hands its history over (WallHandover).
 template <class Law, class RowOf, class ContactOf>
 void compute_wall_contacts(const std::string& label, const ParticleViews& p, const WallSet& walls,
                            const WallContactList& list, const CoefficientTable& table, double dt,
@@ -709,7 +710,6 @@ void compute_wall_contacts(const std::string& label, const ParticleViews& p, con
   auto row_start = list.row_start;
   auto element = list.element;
   const WallSlots slots(list);
-  auto entries_end = list.row_start;
   Kokkos::parallel_for(
       label, BalancedPolicy(0, count), KOKKOS_LAMBDA(int m) {
         const int i = row_of(m);
@@ -720,7 +720,7 @@ void compute_wall_contacts(const std::string& label, const ParticleViews& p, con
           WallContacts<K> found;
           if (wall.active != 0)
             find_wall_contacts(contact_of, i, e, wall, found);
-          WallHandover<K>::apply(el, slots, element, entries_end(i + 1), contact_of, i, k, wall,
+          WallHandover<K>::apply(el, slots, element, row_start(i + 1), contact_of, i, k, wall,
                                  found.count > 0, released);
           store_wall_contacts<Law>(slots, k, p, i, wall, found, table, dt);
         }
