@@ -183,6 +183,23 @@ KOKKOS_INLINE_FUNCTION SurfaceQuery point_feature_query(Vec3 point, Vec3 p, Vec3
   return q;
 }
 
+// Triangle e's corners, its unit normal (from the corners, in their order) and the height of p
+// above its plane along that normal.
+struct TrianglePlane {
+  Vec3 a, b, c, normal;
+  double height = 0;
+};
+
+KOKKOS_INLINE_FUNCTION TrianglePlane triangle_plane(const WallElements& el, int e, Vec3 p) {
+  TrianglePlane t;
+  t.a = geometry_vec(el.geometry, e, 0), t.b = geometry_vec(el.geometry, e, 3),
+  t.c = geometry_vec(el.geometry, e, 6);
+  const Vec3 normal_raw = cross(t.b - t.a, t.c - t.a);
+  t.normal = (1.0 / norm(normal_raw)) * normal_raw;
+  t.height = dot(p - t.a, t.normal);
+  return t;
+}
+
 // The feature of triangle e that claims p, if e reports it and it lies within `reach` of p:
 // its face, or an edge or vertex that e owns. A centre is claimed by exactly one feature of a
 // mesh (up to the edge cases of a tolerance band at obtuse corners, where it may be claimed by
@@ -191,21 +208,17 @@ KOKKOS_INLINE_FUNCTION SurfaceQuery point_feature_query(Vec3 point, Vec3 p, Vec3
 // could only give a contact that does not touch, and on a fine mesh most candidates are such.
 KOKKOS_INLINE_FUNCTION SurfaceQuery claimed_triangle_feature(const WallElements& el, int e, Vec3 p,
                                                              double reach, bool& applies) {
-  const Vec3 a = geometry_vec(el.geometry, e, 0), b = geometry_vec(el.geometry, e, 3),
-             c = geometry_vec(el.geometry, e, 6);
-  const Vec3 normal_raw = cross(b - a, c - a);
-  const Vec3 normal = (1.0 / norm(normal_raw)) * normal_raw;
-  const double height = dot(p - a, normal);
-  const Vec3 facing = height >= 0 ? normal : -normal;
+  const TrianglePlane t = triangle_plane(el, e, p);
+  const Vec3 facing = t.height >= 0 ? t.normal : -t.normal;
   const double beyond = reach * (1 + 1e-9);
   applies = false;
-  // Every feature of e lies in its plane and in e: nearer than neither, none can touch. The
-  // distance to e needs no topology, which on a large mesh is what the memory traffic is.
-  if (!(math::fabs(height) < beyond) || !(triangle_query(a, b, c, p).signed_distance < beyond))
+  // Every feature of e lies in e: nearer than e, none can touch. The distance to e needs no
+  // topology, which on a large mesh is what the memory traffic is.
+  if (!(triangle_query(t.a, t.b, t.c, p).signed_distance < beyond))
     return SurfaceQuery{};
   applies = true;
   if (face_claims(el, e, p))
-    return point_feature_query(p - height * normal, p, facing, 0);
+    return point_feature_query(p - t.height * t.normal, p, facing, 0);
   for (int k = 0; k < 3; ++k) {
     const int edge = el.features(e, k);
     if (el.edge_owner(edge) != e)
@@ -352,14 +365,10 @@ KOKKOS_INLINE_FUNCTION bool triangle_may_touch(const WallElements& el, int e, Ve
   const double margin = 1e-9 * (r + drift);
   const double band = drift + el.feature_tolerance + margin; // slack of the claims' tests
   const double touch = r + drift + margin;                   // of the distances
-  const Vec3 a = geometry_vec(el.geometry, e, 0), b = geometry_vec(el.geometry, e, 3),
-             c = geometry_vec(el.geometry, e, 6);
-  const Vec3 normal_raw = cross(b - a, c - a);
-  const Vec3 normal = (1.0 / norm(normal_raw)) * normal_raw;
-  const double height = dot(p - a, normal);
-  if (!(math::fabs(height) < touch))
+  const TrianglePlane t = triangle_plane(el, e, p);
+  if (!(math::fabs(t.height) < touch))
     return false;
-  if (triangle_query(a, b, c, p - height * normal).signed_distance <= band)
+  if (triangle_query(t.a, t.b, t.c, p - t.height * t.normal).signed_distance <= band)
     return true; // the face may claim it
   for (int k = 0; k < 3; ++k) {
     const int edge = el.features(e, k);
