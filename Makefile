@@ -17,6 +17,9 @@
 #   make gpu-check     on a machine with an NVIDIA GPU: build for it, run the tests, the backend
 #                      agreement and the benchmarks; report in out/gpu-check (GPU_CHECK_PRESET=openmp:
 #                      the same on the CPU, as CI runs it)
+#   make fuzz          clang + libFuzzer build of the host library (preset fuzz, build/fuzz), then
+#                      each fuzz target (scene loader, mesh readers) for FUZZ_SECONDS (60) or
+#                      FUZZ_RUNS executions; results in out/fuzz/results.json
 #   make format        clang-format -i on the C++ sources
 #   make clean         remove build/ and out/ (the Kokkos cache is kept)
 #
@@ -43,8 +46,8 @@ DEPS := scripts/deps.sh
 PYTHON ?= /usr/bin/python3
 MAKEFLAGS += --no-print-directory
 
-.PHONY: all deps deps-cuda deps-bench build test demo bench serial memcheck memcheck-build \
-        cuda cuda-sm80 test-cuda perf-check perf-baseline gpu-check format clean help
+.PHONY: all deps deps-cuda deps-bench deps-fuzz build test demo bench serial memcheck memcheck-build \
+        cuda cuda-sm80 test-cuda perf-check perf-baseline gpu-check fuzz format clean help
 .DEFAULT_GOAL := build
 
 all: build
@@ -68,6 +71,9 @@ endif
 
 deps-bench:
 	@$(DEPS) --bench --no-kokkos
+
+deps-fuzz:
+	@$(DEPS) --fuzz --no-kokkos
 
 # --- configure + build --------------------------------------------------------
 # $(call configure_build,PRESET,DEPS-VARIANT)
@@ -132,6 +138,14 @@ GPU_CHECK_PRESET ?= auto
 GPU_CHECK_ARGS ?=
 gpu-check: build
 	$(PYTHON) perf/gpu_check.py --preset $(GPU_CHECK_PRESET) --out out/gpu-check $(GPU_CHECK_ARGS)
+
+FUZZ_SECONDS ?= 60
+FUZZ_RUNS ?= -1
+fuzz: deps-fuzz
+	@[ -f build/fuzz/CMakeCache.txt ] && [ build/fuzz/CMakeCache.txt -nt CMakePresets.json ] \
+	  || cmake --preset fuzz $(CMAKE_ARGS)
+	cmake --build build/fuzz -j $(JOBS)
+	$(PYTHON) scripts/run_fuzzers.py --seconds $(FUZZ_SECONDS) --runs $(FUZZ_RUNS)
 
 demo: build
 	build/openmp/bin/kdem run cases/hopper/hopper_spheres.yaml --out out/demo

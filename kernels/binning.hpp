@@ -94,7 +94,7 @@ inline CellBins sort_particles_by_cell(ParticleViews& p, const CellGrid& grid,
       "kdem::bin_count", RangePolicy(0, n), KOKKOS_LAMBDA(int i) {
         const int c = grid.cell_of(load3(position, i));
         cell_of_particle(i) = c;
-        Kokkos::atomic_increment(&counts(c));
+        Kokkos::atomic_add(&counts(c), 1);
       });
   int total = 0;
   IndexView cell_start = exclusive_scan_with_total(counts, total);

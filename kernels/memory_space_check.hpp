@@ -11,6 +11,11 @@
 //    callbacks; any other host access aborts with the message below (on a GPU it would read
 //    device memory from the host).
 // The `memcheck` build preset selects it (KDEM_MEMORY_SPACE); other builds never instantiate it.
+//
+// Kokkos 4.3 removed LogicalMemorySpace and offers nothing in its place short of writing a
+// memory space against Kokkos' internal allocation records, so with Kokkos 4.3 or newer the
+// checked space does not exist (KDEM_HAS_CHECKED_MEMORY_SPACE is 0), the memcheck preset is
+// refused at configure time (CMakeLists.txt), and every other build works as with Kokkos 3.4.
 #include <Kokkos_Core.hpp>
 
 #include <atomic>
@@ -23,10 +28,15 @@ struct CheckedSpaceName {
   static constexpr const char* get_name() { return "KdemChecked"; }
 };
 
+#if KOKKOS_VERSION < 40300
+#define KDEM_HAS_CHECKED_MEMORY_SPACE 1
 template <class Exec>
 using CheckedMemorySpace = Kokkos::Experimental::LogicalMemorySpace<
     Kokkos::HostSpace, Exec, CheckedSpaceName,
     Kokkos::Experimental::LogicalSpaceSharesAccess::no_shared_access>;
+#else
+#define KDEM_HAS_CHECKED_MEMORY_SPACE 0
+#endif
 
 namespace memory_check {
 
@@ -70,7 +80,11 @@ inline void close_copy() {
 // True when MemSpace is the checked space: then install_memory_space_check() must run right
 // after Kokkos is initialised (every main of the project calls it).
 template <class MemSpace> constexpr bool is_checked_space() {
+#if KDEM_HAS_CHECKED_MEMORY_SPACE
   return std::is_same<MemSpace, CheckedMemorySpace<typename MemSpace::execution_space>>::value;
+#else
+  return false;
+#endif
 }
 
 template <class MemSpace> void install_memory_space_check() {
@@ -89,6 +103,7 @@ template <class MemSpace> void install_memory_space_check() {
 
 } // namespace kdem
 
+#if KDEM_HAS_CHECKED_MEMORY_SPACE
 namespace Kokkos {
 namespace Impl {
 // View element access from host code to the checked space: allowed only inside kernels and
@@ -99,3 +114,4 @@ struct verify_space<Kokkos::HostSpace, kdem::CheckedMemorySpace<Exec>, false> {
 };
 } // namespace Impl
 } // namespace Kokkos
+#endif

@@ -116,7 +116,7 @@ inline void fill_reverse_index(PairList& list, int particles) {
   IndexView reverse_count("reverse_count", particles);
   Kokkos::parallel_for(
       "kdem::pair_reverse_count", RangePolicy(0, list.pair_count),
-      KOKKOS_LAMBDA(int k) { Kokkos::atomic_increment(&reverse_count(pair_j(k))); });
+      KOKKOS_LAMBDA(int k) { Kokkos::atomic_add(&reverse_count(pair_j(k)), 1); });
   int reverse_total = 0;
   list.reverse_start = exclusive_scan_with_total(reverse_count, reverse_total);
   list.reverse_pair = uninitialized<IndexView>("reverse_pair", reverse_total);

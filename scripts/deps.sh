@@ -5,6 +5,7 @@
 #   scripts/deps.sh --cuda               ... and the "cuda-sm90" and "cuda-sm80" variants
 #                                        (only where nvcc is found)
 #   scripts/deps.sh --bench              ... and the peer codes used by perf/ (liggghts)
+#   scripts/deps.sh --fuzz               ... and clang with libFuzzer (make fuzz)
 #   scripts/deps.sh --variant V          build only variant V (openmp, cuda-sm90, cuda-sm80)
 #   scripts/deps.sh --no-apt             do not check/install Debian packages
 #   scripts/deps.sh --no-kokkos          only the Debian packages (own Kokkos given elsewhere)
@@ -37,6 +38,7 @@ STAMP=.kdem-complete
 APT_PACKAGES=(g++ make cmake libeigen3-dev libhdf5-dev libvtk9-dev libgtest-dev
   libyaml-cpp-dev python3-matplotlib python3-h5py dpkg-dev xz-utils valgrind binutils)
 BENCH_PACKAGES=(liggghts)
+FUZZ_PACKAGES=(clang libclang-rt-14-dev)
 
 log() { echo "[deps] $*" >&2; }
 die() { echo "[deps] error: $*" >&2; exit 1; }
@@ -49,11 +51,12 @@ as_root() {
 }
 
 # ---------------------------------------------------------------- arguments
-want_cuda=0 want_bench=0 do_apt=1 do_kokkos=1 print_nvcc=0 print_root="" only_variant=""
+want_cuda=0 want_bench=0 want_fuzz=0 do_apt=1 do_kokkos=1 print_nvcc=0 print_root="" only_variant=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --cuda) want_cuda=1 ;;
     --bench) want_bench=1 ;;
+    --fuzz) want_fuzz=1 ;;
     --no-apt) do_apt=0 ;;
     --no-kokkos) do_kokkos=0 ;;
     --find-nvcc) print_nvcc=1 ;;
@@ -129,9 +132,26 @@ install_packages() {
     $missing >&2
 }
 
+# Debian 12: libvtk9-dev depends on python3-vtk9, which ParaView's Python module
+# (python3-paraview, a recommendation of paraview) conflicts with; apt would stop on a
+# resolver error. ParaView reads kdem's frames without its Python module.
+refuse_paraview_conflict() {
+  local vtk_missing paraview_python
+  vtk_missing=$(missing_packages libvtk9-dev)
+  [ -z "$vtk_missing" ] && return 0
+  paraview_python=$(missing_packages python3-paraview)
+  [ -n "$paraview_python" ] && return 0
+  die "kdem needs libvtk9-dev, which depends on python3-vtk9, and python3-paraview (ParaView's \
+Python module, installed here) conflicts with python3-vtk9. ParaView shows kdem's frames \
+without it: run 'sudo apt-get remove python3-paraview' (paraview itself stays), then make \
+again. See docs/build.md, 'kdem beside ParaView'."
+}
+
 if [ "$do_apt" -eq 1 ]; then
+  refuse_paraview_conflict
   pkgs=("${APT_PACKAGES[@]}")
   [ "$want_bench" -eq 1 ] && pkgs+=("${BENCH_PACKAGES[@]}")
+  [ "$want_fuzz" -eq 1 ] && pkgs+=("${FUZZ_PACKAGES[@]}")
   install_packages "${pkgs[@]}"
 fi
 

@@ -1,11 +1,5 @@
 #include "mesh.hpp"
 
-#include <vtkCellArray.h>
-#include <vtkNew.h>
-#include <vtkOBJReader.h>
-#include <vtkPolyData.h>
-#include <vtkSTLReader.h>
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -62,33 +56,6 @@ Point outward_in_plane(const TriangleMesh& mesh, int t, int a, int b) {
 
 namespace {
 
-// The triangles of a reader's polygons (a polygon of n > 3 corners as the fan of n - 2 triangles
-// from its first corner), its vertices welded; throws naming the file when there are none.
-template <class Reader>
-TriangleMesh read_with(const std::string& path, const std::string& format, Reader& reader) {
-  if (!std::filesystem::is_regular_file(path))
-    throw std::runtime_error(path + ": " + format + " file not found");
-  reader->SetFileName(path.c_str());
-  reader->Update();
-  vtkPolyData* data = reader->GetOutput();
-  TriangleMesh mesh;
-  for (vtkIdType p = 0; p < data->GetNumberOfPoints(); ++p) {
-    double x[3];
-    data->GetPoint(p, x);
-    mesh.points.push_back({x[0], x[1], x[2]});
-  }
-  vtkCellArray* polys = data->GetPolys();
-  polys->InitTraversal();
-  vtkIdType count = 0;
-  const vtkIdType* ids = nullptr;
-  while (polys->GetNextCell(count, ids))
-    for (vtkIdType k = 1; k + 1 < count; ++k)
-      mesh.triangles.push_back({int(ids[0]), int(ids[k]), int(ids[k + 1])});
-  if (mesh.triangles.empty())
-    throw std::runtime_error(path + ": no triangles read (is it an " + format + " file?)");
-  return weld(mesh, 1e-9 * bounding_diagonal(mesh));
-}
-
 std::string lower_extension(const std::string& path) {
   std::string extension = std::filesystem::path(path).extension().string();
   for (char& c : extension)
@@ -99,14 +66,13 @@ std::string lower_extension(const std::string& path) {
 } // namespace
 
 TriangleMesh read_stl(const std::string& path) {
-  vtkNew<vtkSTLReader> reader;
-  reader->MergingOff();
-  return read_with(path, "STL", reader);
+  const TriangleMesh mesh = read_stl_unwelded(path);
+  return weld(mesh, 1e-9 * bounding_diagonal(mesh));
 }
 
 TriangleMesh read_obj(const std::string& path) {
-  vtkNew<vtkOBJReader> reader;
-  return read_with(path, "OBJ", reader);
+  const TriangleMesh mesh = read_obj_unwelded(path);
+  return weld(mesh, 1e-9 * bounding_diagonal(mesh));
 }
 
 TriangleMesh read_mesh(const std::string& path) {
@@ -158,9 +124,16 @@ TriangleMesh spatially_ordered(const TriangleMesh& mesh, const std::array<double
     for (int v : mesh.triangles[t])
       for (int a = 0; a < 3; ++a)
         centroid[a] += mesh.points[v][a] / 3;
-    std::array<long long, 3> key{}; // z, y, x: the order of the particles' cells
-    for (int a = 0; a < 3; ++a)
-      key[2 - a] = (long long)std::floor((centroid[a] - origin[a]) / cell);
+    // z, y, x: the order of the particles' cells. Triangles more than 2^40 cells away (or
+    // with a cell that is not a number) sort at the ends: the order is only for locality.
+    std::array<long long, 3> key{};
+    constexpr double farthest_cell = 1099511627776.0;
+    for (int a = 0; a < 3; ++a) {
+      const double cell_index = std::floor((centroid[a] - origin[a]) / cell);
+      key[2 - a] = (long long)(cell_index < farthest_cell
+                                   ? (cell_index > -farthest_cell ? cell_index : -farthest_cell)
+                                   : farthest_cell);
+    }
     order.emplace_back(key, t);
   }
   std::sort(order.begin(), order.end());

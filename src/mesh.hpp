@@ -13,12 +13,16 @@ struct TriangleMesh {
 };
 
 // Reads an ASCII or binary STL file, or a Wavefront OBJ file (its faces; a face of n > 3 corners
-// as a fan of triangles), through VTK, and welds its vertices. Throws std::runtime_error naming
-// the file when it cannot be read or holds no triangles. read_mesh picks the reader by the file
-// name's extension (.stl or .obj, in any case) and refuses any other.
+// as a fan of triangles), and welds its vertices. Throws std::runtime_error naming the file (and
+// the line, for text files) when it cannot be read, is malformed or holds no triangles. read_mesh
+// picks the reader by the file name's extension (.stl or .obj, in any case) and refuses any other.
 TriangleMesh read_stl(const std::string& path);
 TriangleMesh read_obj(const std::string& path);
 TriangleMesh read_mesh(const std::string& path);
+// The same before welding (src/mesh_readers.cpp): STL corners each their own vertex, OBJ vertices
+// as numbered in the file.
+TriangleMesh read_stl_unwelded(const std::string& path);
+TriangleMesh read_obj_unwelded(const std::string& path);
 bool is_mesh_file_name(const std::string& path);
 
 // Merges points closer than `tolerance` and drops triangles that become degenerate.

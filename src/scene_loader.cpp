@@ -4,6 +4,8 @@
 #include "mesh.hpp"
 #include "scene_yaml.hpp"
 
+#include <yaml-cpp/eventhandler.h>
+#include <yaml-cpp/parser.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -639,20 +641,83 @@ SceneConfig read_scene(const Value& root) {
   return scene;
 }
 
+// Sees one YAML document's events: where its first node starts and whether it holds any node
+// other than a null.
+class DocumentProbe : public YAML::EventHandler {
+public:
+  bool has_content = false;
+  YAML::Mark content_mark;
+
+  void OnDocumentStart(const YAML::Mark&) override {}
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark& mark, YAML::anchor_t) override { note(mark); }
+  void OnScalar(const YAML::Mark& mark, const std::string&, YAML::anchor_t,
+                const std::string&) override {
+    note(mark);
+  }
+  void OnSequenceStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override {
+    note(mark);
+  }
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t,
+                  YAML::EmitterStyle::value) override {
+    note(mark);
+  }
+  void OnMapEnd() override {}
+
+private:
+  void note(const YAML::Mark& mark) {
+    if (!has_content)
+      content_mark = mark;
+    has_content = true;
+  }
+};
+
+// Whether the text holds a document, how many further documents hold more than nulls, and where
+// the first of those starts. yaml-cpp 0.7 (Debian 12) loops for ever in YAML::LoadAll on some
+// malformed input, its parser reporting null documents without end after an error (found by
+// fuzzing; fixed upstream in yaml-cpp 0.9), so documents are read one at a time, at most
+// `documents_read`.
+struct DocumentCount {
+  bool has_first = false;
+  int further = 0;
+  YAML::Mark first_further;
+};
+DocumentCount count_documents(const std::string& yaml_text) {
+  constexpr int documents_read = 64;
+  std::istringstream stream(yaml_text);
+  YAML::Parser parser(stream);
+  DocumentCount count;
+  for (int document = 0; document < documents_read; ++document) {
+    DocumentProbe probe;
+    if (!parser.HandleNextDocument(probe))
+      break;
+    if (document == 0)
+      count.has_first = true;
+    else if (probe.has_content && count.further++ == 0)
+      count.first_further = probe.content_mark;
+  }
+  return count;
+}
+
 YAML::Node parse_single_document(const std::string& yaml_text, const SceneSource& source) {
-  std::vector<YAML::Node> documents;
+  YAML::Node root;
+  DocumentCount documents;
   try {
-    documents = YAML::LoadAll(yaml_text);
+    documents = count_documents(yaml_text);
+    root = YAML::Load(yaml_text);
   } catch (const YAML::Exception& error) {
     throw_at(source, error.mark, "", "YAML syntax error: " + error.msg);
   }
-  if (documents.empty())
+  if (!documents.has_first)
     throw_at(source, YAML::Mark(), "",
              "expected a mapping with keys " + join(scene_keys()) + ", got an empty file");
-  if (documents.size() > 1)
-    throw_at(source, documents[1].Mark(), "",
-             "expected a single YAML document, got " + std::to_string(documents.size()));
-  return documents.front();
+  if (documents.further > 0)
+    throw_at(source, documents.first_further, "",
+             "expected a single YAML document, got " + std::to_string(1 + documents.further));
+  return root;
 }
 
 std::string read_scene_file(const std::string& path) {

@@ -128,6 +128,53 @@ TEST(MeshFiles, MissingEmptyAndUnknownFilesAreRefusedByName) {
   expect_error(write_text("square.ply", "ply\n"), "expected a mesh file ending in .stl or .obj");
 }
 
+TEST(MeshFiles, ObjCornerFormsAndNegativeIndicesGiveTheSameSquare) {
+  // Corners as i, i/t, i//n and i/t/n; negative numbers count back from the last vertex so far.
+  const fs::path path = write_text("forms.obj", "o square\ng all\nv 0 0 0\nv 1 0 0\nv 1 1 0\n"
+                                                "vt 0 0\nvn 0 0 1\nf 1/1 2//1 -1/1/1\n"
+                                                "v 0 1 0\ns off\nf -4 -2 -1\n");
+  expect_welded_square(kdem::read_mesh(path.string()));
+}
+
+TEST(MeshFiles, MalformedFilesAreRefusedWithTheirLine) {
+  expect_error(write_text("zero.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 0\n"),
+               "line 4: expected a face corner as a vertex number");
+  expect_error(write_text("ahead.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\nv 1 1 0\n"),
+               "line 3: face corner 3 refers to a vertex not defined yet (2 so far)");
+  expect_error(write_text("back.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf -1 -2 -4\n"),
+               "line 4: face corner -4 refers to a vertex not defined yet (3 so far)");
+  expect_error(write_text("two.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n"),
+               "line 3: a face needs at least three corners");
+  expect_error(write_text("nan.obj", "v 0 nan 0\n"), "line 1: expected 'v x y z'");
+  expect_error(write_text("short.obj", "v 0 0\n"), "line 1: expected 'v x y z'");
+  expect_error(write_text("outside.stl", "solid s\nvertex 0 0 0\nendsolid s\n"),
+               "line 2: vertex outside a facet");
+  expect_error(write_text("four.stl", "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"
+                                      "vertex 1 0 0\nvertex 1 1 0\nvertex 0 1 0\n"),
+               "line 7: a facet with more than three vertices");
+  expect_error(write_text("open.stl", "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"),
+               "the file ends inside a facet");
+  expect_error(write_text("word.stl", "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 x\n"),
+               "line 4: expected 'vertex x y z' with three finite numbers");
+  expect_error(write_text("other.stl", "solid s\nfacets\n"), "line 2: expected an STL keyword");
+}
+
+TEST(MeshFiles, BinaryStlWithANonFiniteCornerIsRefused) {
+  const fs::path path = write_binary_stl("infinite.stl");
+  std::fstream file(path, std::ios::binary | std::ios::in | std::ios::out);
+  const float infinite = INFINITY;
+  file.seekp(84 + 12 + 4); // first triangle, first corner, y
+  file.write(reinterpret_cast<const char*>(&infinite), 4);
+  file.close();
+  expect_error(path, "triangle 1 has a corner coordinate that is not a finite number");
+}
+
+TEST(MeshFiles, BinaryStlWithAWrongCountIsReadAsTextAndRefused) {
+  const fs::path path = write_binary_stl("truncated.stl");
+  fs::resize_file(path, fs::file_size(path) - 1);
+  expect_error(path, "expected an STL keyword");
+}
+
 } // namespace
 
 namespace {
@@ -185,6 +232,20 @@ TEST(MeshFiles, SpatialOrderKeepsTheTrianglesAndSortsThemByCell) {
     EXPECT_GE(key, previous_key);
     previous_key = key;
   }
+}
+
+// A triangle 1e30 m away (found by fuzzing: its cell number overflowed the sort key) sorts after
+// the near ones, one far the other way before them (all three in the same y and z cells).
+TEST(MeshFiles, SpatialOrderPutsFarTrianglesAtTheEnds) {
+  TriangleMesh mesh;
+  mesh.points = {{0, 0, 0},    {1, 1, 0},     {0, 0, 1},     {1e30, 0, 0}, {1e30, 1, 0},
+                 {1e30, 0, 1}, {-1e30, 0, 0}, {-1e30, 1, 0}, {-1e30, 0, 1}};
+  mesh.triangles = {{3, 4, 5}, {0, 1, 2}, {6, 7, 8}};
+  const TriangleMesh ordered = kdem::spatially_ordered(mesh, {0, 0, 0}, 0.1);
+  ASSERT_EQ(ordered.triangles.size(), 3u);
+  EXPECT_EQ(ordered.points[ordered.triangles[0][0]][0], -1e30);
+  EXPECT_EQ(ordered.points[ordered.triangles[1][0]][0], 0);
+  EXPECT_EQ(ordered.points[ordered.triangles[2][0]][0], 1e30);
 }
 
 // Three triangles on one edge (a fin on a floor): refused, naming the wall, its file and the

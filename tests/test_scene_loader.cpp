@@ -471,6 +471,19 @@ TEST(SceneSyntaxErrors, TwoDocuments) {
   EXPECT_NE(message.find("expected a single YAML document, got 2"), std::string::npos) << message;
 }
 
+// yaml-cpp 0.7's LoadAll loops for ever (memory growing) on a lone comma; the loader reads the
+// documents itself and refuses the text.
+TEST(SceneSyntaxErrors, LoneCommaIsRefusedNotLoopedOn) {
+  std::string message;
+  try {
+    load_text(",");
+  } catch (const SceneError& error) {
+    message = error.what();
+  }
+  EXPECT_EQ(message.rfind("scene.yaml:", 0), 0u) << message;
+  EXPECT_NE(message.find("expected a mapping"), std::string::npos) << message;
+}
+
 TEST(SceneSyntaxErrors, TopLevelMustBeAMapping) {
   std::string message;
   try {

@@ -1,0 +1,128 @@
+#!/usr/bin/env python3
+"""Runs kdem's libFuzzer targets (preset fuzz) and writes what they did.
+
+Each target runs on its own working corpus (out/fuzz/corpus/<target>, kept between runs so that
+later runs start from what earlier ones found), merged with the seed corpus of tests/fuzz/corpus.
+A run stops after --runs executions or --seconds seconds, whichever comes first, or at the first
+crash, hang (--timeout per input), leak or sanitizer report; the input that caused it is left in
+out/fuzz/artifacts/<target>/ (copy it into tests/fuzz/regressions/<target>/ to make it a
+regression test once fixed).
+
+Writes out/fuzz/results.json (per target: executions, seconds, executions per second, peak
+memory, corpus size, exit status, artifacts) and exits non-zero when any target failed.
+"""
+import argparse
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+FUZZ_DIR = ROOT / "tests" / "fuzz"
+TARGETS = {
+    # name: largest input in bytes (the seeds are at most 10 kB)
+    "scene_loader": 16384,
+    "mesh_reader": 16384,
+}
+
+
+def parse_stats(log):
+    """libFuzzer's -print_final_stats lines: stat::name: value."""
+    stats = {}
+    for name, value in re.findall(r"^stat::(\w+):\s+(\d+)", log, re.MULTILINE):
+        stats[name] = int(value)
+    return stats
+
+
+def run_target(binary, name, args, out):
+    corpus = out / "corpus" / name
+    artifacts = out / "artifacts" / name
+    corpus.mkdir(parents=True, exist_ok=True)
+    if artifacts.exists():
+        shutil.rmtree(artifacts)
+    artifacts.mkdir(parents=True)
+    command = [
+        str(binary),
+        f"-runs={args.runs}",
+        f"-max_total_time={args.seconds}",
+        f"-timeout={args.timeout}",
+        f"-rss_limit_mb={args.rss_limit_mb}",
+        f"-max_len={TARGETS[name]}",
+        f"-artifact_prefix={artifacts}/",
+        "-print_final_stats=1",
+        str(corpus),
+        str(FUZZ_DIR / "corpus" / name),
+    ]
+    env = dict(os.environ)
+    env["KDEM_FUZZ_BASE_DIR"] = str(FUZZ_DIR / "scene_files")
+    env.setdefault("ASAN_OPTIONS", "detect_leaks=1:abort_on_error=0")
+    env.setdefault("UBSAN_OPTIONS", "print_stacktrace=1:halt_on_error=1")
+    # The mesh target writes its scratch files here; a private folder per run.
+    scratch = tempfile.mkdtemp(prefix=f"kdem-fuzz-{name}-")
+    env["TMPDIR"] = scratch
+    log_path = out / f"{name}.log"
+    start = time.monotonic()
+    with open(log_path, "w") as log:
+        status = subprocess.run(command, stdout=log, stderr=subprocess.STDOUT, env=env).returncode
+    seconds = time.monotonic() - start
+    shutil.rmtree(scratch, ignore_errors=True)
+    text = log_path.read_text(errors="replace")
+    stats = parse_stats(text)
+    executions = stats.get("number_of_executed_units", 0)
+    found = sorted(p.name for p in artifacts.iterdir())
+    return {
+        "target": name,
+        "exit_status": status,
+        "executions": executions,
+        "seconds": round(seconds, 1),
+        "executions_per_second": round(executions / seconds) if seconds > 0 else 0,
+        "peak_rss_mb": stats.get("peak_rss_mb"),
+        "corpus_files": sum(1 for _ in corpus.iterdir()),
+        "artifacts": found,
+        "log": str(log_path.relative_to(ROOT)) if log_path.is_relative_to(ROOT) else str(log_path),
+        "ok": status == 0 and not found,
+    }
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--bin", default=str(ROOT / "build" / "fuzz" / "bin"))
+    parser.add_argument("--out", default=str(ROOT / "out" / "fuzz"))
+    parser.add_argument("--targets", default=",".join(TARGETS))
+    parser.add_argument("--seconds", type=int, default=60, help="time limit per target (0: none)")
+    parser.add_argument("--runs", type=int, default=-1, help="executions per target (-1: no limit)")
+    parser.add_argument("--timeout", type=int, default=10, help="seconds one input may take")
+    parser.add_argument("--rss-limit-mb", type=int, default=2048)
+    args = parser.parse_args()
+    if args.seconds <= 0 and args.runs < 0:
+        parser.error("give --seconds or --runs (a run without either never ends)")
+    out = Path(args.out).resolve()
+    out.mkdir(parents=True, exist_ok=True)
+    results = []
+    for name in args.targets.split(","):
+        if name not in TARGETS:
+            parser.error(f"--targets: unknown target '{name}' (known: {', '.join(TARGETS)})")
+        binary = Path(args.bin) / f"fuzz_{name}"
+        if not binary.exists():
+            sys.exit(f"{binary}: not built (make fuzz builds it)")
+        result = run_target(binary, name, args, out)
+        results.append(result)
+        verdict = "ok" if result["ok"] else f"FAILED (exit {result['exit_status']}, see {result['log']})"
+        print(f"fuzz {name}: {result['executions']} executions in {result['seconds']} s "
+              f"({result['executions_per_second']}/s), corpus {result['corpus_files']} files: {verdict}")
+    summary = {"settings": {"seconds": args.seconds, "runs": args.runs, "timeout": args.timeout,
+                            "rss_limit_mb": args.rss_limit_mb},
+               "targets": results}
+    with tempfile.NamedTemporaryFile("w", dir=out, delete=False, suffix=".tmp") as tmp:
+        json.dump(summary, tmp, indent=2)
+    os.replace(tmp.name, out / "results.json")
+    return 0 if all(r["ok"] for r in results) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
