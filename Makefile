@@ -17,8 +17,9 @@
 #   make gpu-check     on a machine with an NVIDIA GPU: build for it, run the tests, the backend
 #                      agreement and the benchmarks; report in out/gpu-check (GPU_CHECK_PRESET=openmp:
 #                      the same on the CPU, as CI runs it)
-#   make fuzz          clang + libFuzzer build of the host library (preset fuzz, build/fuzz), then
-#                      each fuzz target (scene loader, mesh readers) for FUZZ_SECONDS (60) or
+#   make fuzz          clang + libFuzzer build of the host library and a Serial engine (preset
+#                      fuzz, build/fuzz, Kokkos built by clang), then each fuzz target (scene
+#                      loader, mesh readers, checkpoint reader) for FUZZ_SECONDS (60) or
 #                      FUZZ_RUNS executions; results in out/fuzz/results.json
 #   make format        clang-format -i on the C++ sources
 #   make clean         remove build/ and out/ (the Kokkos cache is kept)
@@ -72,8 +73,13 @@ endif
 deps-bench:
 	@$(DEPS) --bench --no-kokkos
 
+ifeq ($(strip $(KOKKOS_ROOT)),)
+deps-fuzz:
+	@$(DEPS) --fuzz --variant fuzz >/dev/null
+else
 deps-fuzz:
 	@$(DEPS) --fuzz --no-kokkos
+endif
 
 # --- configure + build --------------------------------------------------------
 # $(call configure_build,PRESET,DEPS-VARIANT)
@@ -142,9 +148,7 @@ gpu-check: build
 FUZZ_SECONDS ?= 60
 FUZZ_RUNS ?= -1
 fuzz: deps-fuzz
-	@[ -f build/fuzz/CMakeCache.txt ] && [ build/fuzz/CMakeCache.txt -nt CMakePresets.json ] \
-	  || cmake --preset fuzz $(CMAKE_ARGS)
-	cmake --build build/fuzz -j $(JOBS)
+	$(call configure_build,fuzz,fuzz)
 	$(PYTHON) scripts/run_fuzzers.py --seconds $(FUZZ_SECONDS) --runs $(FUZZ_RUNS)
 
 demo: build

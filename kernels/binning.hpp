@@ -14,8 +14,10 @@ struct CellGrid {
 
   KOKKOS_INLINE_FUNCTION int cell_count() const { return dims[0] * dims[1] * dims[2]; }
   KOKKOS_INLINE_FUNCTION int coordinate(double x, int axis) const {
-    const int c = static_cast<int>(math::floor((x - origin[axis]) / cell_size));
-    return c < 0 ? 0 : (c >= dims[axis] ? dims[axis] - 1 : c);
+    // Clamped before the conversion: a position far outside the grid, or NaN, must not
+    // overflow it (NaN goes to cell 0).
+    const double c = math::floor((x - origin[axis]) / cell_size);
+    return c >= 0 ? (c < dims[axis] ? int(c) : dims[axis] - 1) : 0;
   }
   KOKKOS_INLINE_FUNCTION int flat(int cx, int cy, int cz) const {
     return cx + dims[0] * (cy + dims[1] * cz);

@@ -5,8 +5,9 @@
 #   scripts/deps.sh --cuda               ... and the "cuda-sm90" and "cuda-sm80" variants
 #                                        (only where nvcc is found)
 #   scripts/deps.sh --bench              ... and the peer codes used by perf/ (liggghts)
-#   scripts/deps.sh --fuzz               ... and clang with libFuzzer (make fuzz)
-#   scripts/deps.sh --variant V          build only variant V (openmp, cuda-sm90, cuda-sm80)
+#   scripts/deps.sh --fuzz               ... and clang with libFuzzer and the "fuzz" variant
+#                                        (Kokkos alone, Serial, built by clang: make fuzz)
+#   scripts/deps.sh --variant V          build only variant V (openmp, cuda-sm90, cuda-sm80, fuzz)
 #   scripts/deps.sh --no-apt             do not check/install Debian packages
 #   scripts/deps.sh --no-kokkos          only the Debian packages (own Kokkos given elsewhere)
 #   scripts/deps.sh --find-nvcc          print the nvcc that would be used (exit 1: none)
@@ -33,6 +34,7 @@ PATCH_DIR="$ROOT/third_party/kokkos"
 CACHE=${KDEM_CACHE:-$HOME/.cache/kdem}
 JOBS=${KDEM_DEPS_JOBS:-2}
 HOST_CXX=g++
+FUZZ_CXX=clang++
 STAMP=.kdem-complete
 
 APT_PACKAGES=(g++ make cmake libeigen3-dev libhdf5-dev libvtk9-dev libgtest-dev
@@ -80,8 +82,8 @@ if [ "$print_nvcc" -eq 1 ]; then find_nvcc; exit $?; fi
 
 check_variant_name() {
   case "$1" in
-    openmp|cuda-sm90|cuda-sm80) ;;
-    *) die "unknown variant '$1' (openmp, cuda-sm90, cuda-sm80)" ;;
+    openmp|cuda-sm90|cuda-sm80|fuzz) ;;
+    *) die "unknown variant '$1' (openmp, cuda-sm90, cuda-sm80, fuzz)" ;;
   esac
 }
 
@@ -97,7 +99,10 @@ variant_key() {
     sed -n '/^# >>> BUILD RECIPE/,/^# <<< BUILD RECIPE/p' "$SELF"
     "$HOST_CXX" --version | head -n1
     cmake --version | head -n1
-    if [ "$variant" != openmp ]; then "$(find_nvcc)" --version | tail -n2; fi
+    case "$variant" in
+      cuda-*) "$(find_nvcc)" --version | tail -n2 ;;
+      fuzz) "$FUZZ_CXX" --version | head -n1 ;;
+    esac
   } | sha256sum | cut -c1-12
 }
 
@@ -105,7 +110,7 @@ variant_prefix() { echo "$CACHE/kokkos-$1-$(variant_key "$1")"; }
 
 if [ -n "$print_root" ]; then
   check_variant_name "$print_root"
-  if [ "$print_root" != openmp ] && ! find_nvcc >/dev/null; then die "nvcc not found"; fi
+  case "$print_root" in cuda-*) find_nvcc >/dev/null || die "nvcc not found" ;; esac
   prefix=$(variant_prefix "$print_root")
   echo "$prefix"
   [ -f "$prefix/$STAMP" ] || { log "warning: $prefix is not built yet (run scripts/deps.sh)"; exit 1; }
@@ -164,6 +169,7 @@ if [ -n "$only_variant" ]; then
   variants=("$only_variant")
 else
   variants=(openmp)
+  [ "$want_fuzz" -eq 1 ] && variants+=(fuzz)
   if [ "$want_cuda" -eq 1 ]; then
     if find_nvcc >/dev/null; then variants+=(cuda-sm90 cuda-sm80)
     else log "nvcc not found (PATH, CUDA_ROOT, /usr/local/cuda/bin): skipping the CUDA variants"
@@ -171,7 +177,7 @@ else
   fi
 fi
 for v in "${variants[@]}"; do
-  if [ "$v" != openmp ] && ! find_nvcc >/dev/null; then die "variant $v needs nvcc"; fi
+  case "$v" in cuda-*) find_nvcc >/dev/null || die "variant $v needs nvcc" ;; esac
 done
 
 todo=()
@@ -253,6 +259,28 @@ run_logged() {  # run_logged LOGFILE CMD...
   fi
 }
 
+# Kokkos Kernels (only the tests use it): headers + a small library; every explicit
+# instantiation off (KokkosBatched is header-only templates), no BLAS/LAPACK/cuBLAS/cuSPARSE.
+build_kokkos_kernels() {  # build_kokkos_kernels WORK PREFIX CXX
+  local work=$1 prefix=$2 cxx=$3
+  run_logged "$work/kernels.log" cmake -S "$work/kokkos-kernels" -B "$work/build-kernels" \
+    -DCMAKE_CXX_COMPILER="$cxx" "${common[@]}" -DKokkos_ROOT="$prefix" \
+    -DKokkosKernels_ENABLE_TESTS=OFF -DKokkosKernels_ENABLE_EXAMPLES=OFF \
+    -DKokkosKernels_ADD_DEFAULT_ETI=OFF \
+    -DKokkosKernels_INST_DOUBLE=OFF -DKokkosKernels_INST_FLOAT=OFF \
+    -DKokkosKernels_INST_COMPLEX_DOUBLE=OFF -DKokkosKernels_INST_COMPLEX_FLOAT=OFF \
+    -DKokkosKernels_INST_LAYOUTLEFT=OFF -DKokkosKernels_INST_LAYOUTRIGHT=OFF \
+    -DKokkosKernels_INST_OFFSET_INT=OFF -DKokkosKernels_INST_OFFSET_SIZE_T=OFF \
+    -DKokkosKernels_INST_ORDINAL_INT=OFF -DKokkosKernels_INST_ORDINAL_INT64_T=OFF \
+    -DKokkosKernels_INST_EXECSPACE_SERIAL=OFF -DKokkosKernels_INST_EXECSPACE_OPENMP=OFF \
+    -DKokkosKernels_INST_EXECSPACE_CUDA=OFF -DKokkosKernels_INST_MEMSPACE_HOSTSPACE=OFF \
+    -DKokkosKernels_INST_MEMSPACE_CUDASPACE=OFF -DKokkosKernels_INST_MEMSPACE_CUDAUVMSPACE=OFF \
+    -DKokkosKernels_ENABLE_TPL_BLAS=OFF -DKokkosKernels_ENABLE_TPL_LAPACK=OFF \
+    -DKokkosKernels_ENABLE_TPL_CUBLAS=OFF -DKokkosKernels_ENABLE_TPL_CUSPARSE=OFF
+  run_logged "$work/kernels.log" cmake --build "$work/build-kernels" -j "$JOBS"
+  run_logged "$work/kernels.log" cmake --install "$work/build-kernels"
+}
+
 build_variant() {
   local variant=$1 prefix work cxx arch="" t0
   prefix=$(variant_prefix "$variant")
@@ -274,6 +302,9 @@ build_variant() {
     -DKokkos_ENABLE_OPENMP=ON -DKokkos_ENABLE_TESTS=OFF -DKokkos_ENABLE_EXAMPLES=OFF)
   case "$variant" in
     openmp) cxx=$HOST_CXX ;;
+    # The fuzz targets' engine: Serial alone, by the compiler of libFuzzer (the sanitizers
+    # instrument kdem's code and the Kokkos headers it compiles, not this library).
+    fuzz) cxx=$FUZZ_CXX; kokkos_opts+=(-DKokkos_ENABLE_OPENMP=OFF) ;;
     cuda-sm90) arch=sm_90; kokkos_opts+=(-DKokkos_ARCH_HOPPER90=ON) ;;
     cuda-sm80) arch=sm_80; kokkos_opts+=(-DKokkos_ARCH_AMPERE80=ON) ;;
   esac
@@ -294,25 +325,8 @@ build_variant() {
   run_logged "$work/kokkos.log" cmake --install "$work/build-kokkos"
   log "  Kokkos done after $(($(date +%s) - t0)) s"
 
-  # Kokkos Kernels: headers + a small library; every explicit instantiation
-  # off (KokkosBatched is header-only templates), no BLAS/LAPACK/cuBLAS/cuSPARSE.
   if [ -n "$arch" ]; then cxx="$prefix/bin/nvcc_wrapper"; fi
-  run_logged "$work/kernels.log" cmake -S "$work/kokkos-kernels" -B "$work/build-kernels" \
-    -DCMAKE_CXX_COMPILER="$cxx" "${common[@]}" -DKokkos_ROOT="$prefix" \
-    -DKokkosKernels_ENABLE_TESTS=OFF -DKokkosKernels_ENABLE_EXAMPLES=OFF \
-    -DKokkosKernels_ADD_DEFAULT_ETI=OFF \
-    -DKokkosKernels_INST_DOUBLE=OFF -DKokkosKernels_INST_FLOAT=OFF \
-    -DKokkosKernels_INST_COMPLEX_DOUBLE=OFF -DKokkosKernels_INST_COMPLEX_FLOAT=OFF \
-    -DKokkosKernels_INST_LAYOUTLEFT=OFF -DKokkosKernels_INST_LAYOUTRIGHT=OFF \
-    -DKokkosKernels_INST_OFFSET_INT=OFF -DKokkosKernels_INST_OFFSET_SIZE_T=OFF \
-    -DKokkosKernels_INST_ORDINAL_INT=OFF -DKokkosKernels_INST_ORDINAL_INT64_T=OFF \
-    -DKokkosKernels_INST_EXECSPACE_SERIAL=OFF -DKokkosKernels_INST_EXECSPACE_OPENMP=OFF \
-    -DKokkosKernels_INST_EXECSPACE_CUDA=OFF -DKokkosKernels_INST_MEMSPACE_HOSTSPACE=OFF \
-    -DKokkosKernels_INST_MEMSPACE_CUDASPACE=OFF -DKokkosKernels_INST_MEMSPACE_CUDAUVMSPACE=OFF \
-    -DKokkosKernels_ENABLE_TPL_BLAS=OFF -DKokkosKernels_ENABLE_TPL_LAPACK=OFF \
-    -DKokkosKernels_ENABLE_TPL_CUBLAS=OFF -DKokkosKernels_ENABLE_TPL_CUSPARSE=OFF
-  run_logged "$work/kernels.log" cmake --build "$work/build-kernels" -j "$JOBS"
-  run_logged "$work/kernels.log" cmake --install "$work/build-kernels"
+  [ "$variant" = fuzz ] || build_kokkos_kernels "$work" "$prefix" "$cxx"
 
   # The installed nvcc_wrapper defaults to this variant's architecture, so that
   # projects compiled with it agree with Kokkos even before Kokkos' flags apply.
@@ -320,7 +334,7 @@ build_variant() {
     sed -i "s/NVCC_WRAPPER_DEFAULT_ARCH:-\"sm_90\"/NVCC_WRAPPER_DEFAULT_ARCH:-\"$arch\"/" \
       "$prefix/bin/nvcc_wrapper"
   fi
-  cp "$work/kokkos.log" "$work/kernels.log" "$prefix/"
+  cp "$work"/*.log "$prefix/"
   rm -rf "$work"
   echo "built in $(($(date +%s) - t0)) s on $(nproc) cores" >"$prefix/$STAMP"
   log "  $variant done in $(($(date +%s) - t0)) s"

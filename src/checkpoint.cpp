@@ -1,5 +1,7 @@
 // HDF5 checkpoints: the whole engine state, in the current particle order and with the current
 // contact lists, so that a restart continues bit for bit.
+#include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -32,8 +34,14 @@ template <class View> void load_view(const Hdf5Reader& in, const std::string& na
   else
     values = in.read_int64(name);
   const auto shape = in.shape(name);
-  const int columns = shape.size() == 2 ? int(shape[1]) : 1;
-  view = view_from_host<View>(name, values, columns);
+  constexpr std::size_t columns = View::rank == 1 ? 1 : View::static_extent(1);
+  if (shape.size() != 2 || shape[1] != columns)
+    throw std::runtime_error(in.path().string() + ": checkpoint dataset " + name +
+                             " is not a table of " + std::to_string(columns) + " column(s)");
+  if (shape[0] > hsize_t(std::numeric_limits<int>::max()))
+    throw std::runtime_error(in.path().string() + ": checkpoint dataset " + name +
+                             " has too many rows");
+  view = view_from_host<View>(name, values, int(columns));
 }
 
 // The datasets format 2 added, and what a format 1 file stands for instead.
@@ -132,12 +140,27 @@ void Engine::write_checkpoint(const std::string& path) const {
   out.close();
 }
 
+// Read into a copy of the state, which replaces the engine's only when the whole file has been
+// read and checked: a refused checkpoint leaves the engine as it was.
 void Engine::read_checkpoint(const std::string& path) {
-  State& s = *state_;
+  State s = *state_;
   Hdf5Reader in(path);
   auto require = [&](bool ok, const std::string& what) {
     if (!ok)
       throw std::runtime_error(path + ": checkpoint does not match the scene: " + what);
+  };
+  auto count_of = [&](const std::string& name) {
+    const std::int64_t value = in.read_scalar_int64(name);
+    if (value < 0 || value > std::numeric_limits<int>::max())
+      throw std::runtime_error(path + ": checkpoint value " + name + " = " + std::to_string(value) +
+                               " is not a count");
+    return value;
+  };
+  auto finite_of = [&](const std::string& name) {
+    const double value = in.read_scalar_double(name);
+    if (!std::isfinite(value))
+      throw std::runtime_error(path + ": checkpoint value " + name + " is not finite");
+    return value;
   };
   const std::int64_t format = in.read_scalar_int64("format");
   require(format == 1 || format == checkpoint_format,
@@ -146,35 +169,41 @@ void Engine::read_checkpoint(const std::string& path) {
           "material count differs");
   require(in.read_scalar_int64("wall_element_count") == s.walls.elements.count,
           "wall elements differ");
-  s.time = in.read_scalar_double("time");
+  s.time = finite_of("time");
   s.step_count = in.read_scalar_int64("step");
+  require(s.step_count >= 0, "negative step");
   s.next_id = in.read_scalar_int64("next_id");
-  s.largest_radius = in.read_scalar_double("largest_radius");
+  s.largest_radius = finite_of("largest_radius");
   s.smallest_radius = in.read_scalar_double("smallest_radius");
-  s.last_build_time = in.read_scalar_double("last_build_time");
+  s.last_build_time = finite_of("last_build_time");
   s.list_builds = in.read_scalar_int64("list_builds");
   s.needs_rebuild = in.read_scalar_int64("needs_rebuild") != 0;
-  s.discharged_mass = in.read_scalar_double("discharged_mass");
+  s.discharged_mass = finite_of("discharged_mass");
   s.discharged_count = in.read_scalar_int64("discharged_count");
   // Checkpoints written before the run checks existed lack these: nothing was lost, and the
   // energy budget starts from the restart's state (set after the particles are read).
-  s.lost_mass = in.has("lost_mass") ? in.read_scalar_double("lost_mass") : 0;
+  s.lost_mass = in.has("lost_mass") ? finite_of("lost_mass") : 0;
   s.lost_count = in.has("lost_count") ? in.read_scalar_int64("lost_count") : 0;
+  require(s.discharged_count >= 0 && s.lost_count >= 0 && s.list_builds >= 0,
+          "a negative count of discharged or lost particles or of list builds");
+  require(s.smallest_radius > 0, "smallest_radius is not positive");
   const bool has_energy_budget = in.has("energy_budget");
   if (has_energy_budget) {
-    s.energy_budget = in.read_scalar_double("energy_budget");
-    s.initial_overlap_ratio = in.read_scalar_double("initial_overlap_ratio");
+    s.energy_budget = finite_of("energy_budget");
+    s.initial_overlap_ratio = finite_of("initial_overlap_ratio");
   }
   for (std::size_t k = 0; k < s.sources.size(); ++k) {
     const std::string group = "sources/" + std::to_string(k) + "/";
     require(in.has(group + "rng"), "particle sources differ");
     std::istringstream text(in.read_string(group + "rng"));
     text >> s.sources[k].rng;
+    require(!text.fail(), "the random state of source " + std::to_string(k) + " does not parse");
     s.sources[k].inserted = in.read_scalar_int64(group + "inserted");
-    s.sources[k].next_insertion = in.read_scalar_double(group + "next_insertion");
-    s.sources[k].owed = in.read_scalar_double(group + "owed");
+    require(s.sources[k].inserted >= 0, "negative insertion count of source " + std::to_string(k));
+    s.sources[k].next_insertion = finite_of(group + "next_insertion");
+    s.sources[k].owed = finite_of(group + "owed");
   }
-  const int particle_count = int(in.read_scalar_int64("particle_count"));
+  const int particle_count = int(count_of("particle_count"));
   for_each_particle_field([&](const char* name, auto member) {
     load_view_of_format(in, format, std::string("particles/") + name, s.particles.*member,
                         particle_count);
@@ -184,20 +213,23 @@ void Engine::read_checkpoint(const std::string& path) {
   for_each_pair_list_field([&](const char* name, auto member) {
     load_view_of_format(in, format, std::string("pairs/") + name, s.pairs.*member, 0);
   });
-  s.pairs.pair_count = int(in.read_scalar_int64("pair_count"));
+  s.pairs.pair_count = int(count_of("pair_count"));
   s.pairs.slot_count = int(s.pairs.overlap.extent(0));
   for_each_wall_contact_field([&](const char* name, auto member) {
     load_view_of_format(in, format, std::string("wall_contacts/") + name, s.wall_contacts.*member,
                         0);
   });
-  s.wall_contacts.entry_count = int(in.read_scalar_int64("wall_entry_count"));
+  s.wall_contacts.entry_count = int(count_of("wall_entry_count"));
   s.wall_contacts.slot_count = int(s.wall_contacts.overlap.extent(0));
   allocate_wall_contact_results(s.wall_contacts);
+  s.check_restored_particles(path);
   s.families_present |= present_families(s.particles, s.shape_families);
+  s.check_restored_lists(path);
   s.classify_families(s.pairs);
   update_wall_poses(s.walls, s.time);
   if (!has_energy_budget)
     s.start_energy_budget();
+  *state_ = std::move(s);
 }
 
 } // namespace kdem

@@ -124,6 +124,11 @@ struct Engine::State {
   void setup_outlets();
   void setup_leaving_bounds();
   void start_energy_budget();
+  // Throw std::runtime_error naming path, the dataset and the broken rule when the state read
+  // from a checkpoint is not one the engine could have written (src/checkpoint_checks.cpp):
+  // the particles first, then (with the families present updated) the lists.
+  void check_restored_particles(const std::string& path) const;
+  void check_restored_lists(const std::string& path) const;
   void setup_sources();
   int material_index(const std::string& name) const;
 

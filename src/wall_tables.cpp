@@ -184,6 +184,7 @@ WallElements upload_wall_elements(const WallElementTable& table) {
   std::vector<Vec3> ring;
   for (const auto& p : table.vertex_ring)
     ring.push_back(Vec3{p[0], p[1], p[2]});
+  el.vertex_ring = upload<Vec3>("wall_vertex_ring", ring);
   return el;
 }
 

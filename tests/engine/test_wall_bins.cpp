@@ -157,6 +157,26 @@ TEST(WallBins, BinnedCandidateListIsTheListFromEveryElement) {
   EXPECT_EQ(candidates(bin_wall_elements(table, 3, 4e-3)), reference);
 }
 
+// The device tables hold every vertex ring of the host table (the neighbours that a body's
+// vertex contact descends towards): a rewrite of the upload once left them out, and superquadrics
+// touching a mesh vertex read through a null pointer (found by the checkpoint_reader fuzz target).
+TEST(WallBins, UploadedTablesHoldTheVertexRings) {
+  MeshFolder folder;
+  const std::string ball = folder.write("ball", sphere_mesh({0, 0, 0}, 0.1, 7, 12));
+  const WallElementTable table =
+      build_wall_elements({mesh_wall("steel", ball)}, {-1, -1, -1}, {1, 1, 1});
+  ASSERT_GT(table.vertex_ring.size(), 0u);
+  const WallElements elements = upload_wall_elements(table);
+  ASSERT_EQ(elements.vertex_ring.extent(0), table.vertex_ring.size());
+  const auto ring = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), elements.vertex_ring);
+  for (std::size_t k = 0; k < table.vertex_ring.size(); ++k) {
+    EXPECT_EQ(ring(k).x, table.vertex_ring[k][0]) << k;
+    EXPECT_EQ(ring(k).y, table.vertex_ring[k][1]) << k;
+    EXPECT_EQ(ring(k).z, table.vertex_ring[k][2]) << k;
+  }
+  EXPECT_EQ(host_ints(elements.vertex_ring_start), table.vertex_ring_start);
+}
+
 // A valley along y at x = x0 (concave edge), faces rising at 30 degrees to both sides.
 std::vector<Triangle> valley(double x0, double h, double z) {
   const double rise = h * std::tan(M_PI / 6);

@@ -1,0 +1,368 @@
+#include "checkpoint_edits.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <stdexcept>
+
+#include "hdf5_io.hpp"
+
+namespace kdem::fuzz {
+namespace {
+
+using Kind = Dataset::Kind;
+
+// The input bytes, read front to back; zeros once they run out.
+class Bytes {
+public:
+  Bytes(const std::uint8_t* data, std::size_t size) : data_(data), size_(size) {}
+  bool empty() const { return used_ >= size_; }
+  std::uint8_t byte() { return empty() ? 0 : data_[used_++]; }
+  std::uint64_t word(int bytes) {
+    std::uint64_t value = 0;
+    for (int k = 0; k < bytes; ++k)
+      value = value << 8 | byte();
+    return value;
+  }
+
+private:
+  const std::uint8_t* data_;
+  std::size_t size_;
+  std::size_t used_ = 0;
+};
+
+// Values near the edges of what the reader checks.
+constexpr double interesting_reals[] = {0.0,
+                                        -0.0,
+                                        1.0,
+                                        -1.0,
+                                        0.5,
+                                        1e-12,
+                                        1e300,
+                                        -1e300,
+                                        std::numeric_limits<double>::denorm_min(),
+                                        std::numeric_limits<double>::max(),
+                                        std::numeric_limits<double>::infinity(),
+                                        -std::numeric_limits<double>::infinity(),
+                                        std::numeric_limits<double>::quiet_NaN()};
+constexpr std::int64_t interesting_integers[] = {0,
+                                                 -1,
+                                                 1,
+                                                 2,
+                                                 std::numeric_limits<std::int32_t>::max(),
+                                                 std::numeric_limits<std::int32_t>::min(),
+                                                 std::numeric_limits<std::int64_t>::max(),
+                                                 std::numeric_limits<std::int64_t>::min()};
+constexpr std::size_t largest_rows = 4096;
+
+std::size_t columns_of(const Dataset& d) {
+  return d.shape.size() == 2 ? d.shape[1] : 1;
+}
+std::size_t rows_of(const Dataset& d) {
+  return d.shape.empty() ? 1 : d.shape[0];
+}
+
+double real_from(Bytes& bytes) {
+  const std::uint8_t pick = bytes.byte();
+  constexpr std::size_t named = std::size(interesting_reals);
+  if (pick < 2 * named)
+    return interesting_reals[pick % named];
+  const std::uint64_t bits = bytes.word(8);
+  double value;
+  std::memcpy(&value, &bits, sizeof value);
+  return value;
+}
+
+// An integer near a count the image holds (rows of this dataset), a limit, or any 64 bits.
+std::int64_t integer_from(Bytes& bytes, const Dataset& d) {
+  const std::uint8_t pick = bytes.byte();
+  constexpr std::size_t named = std::size(interesting_integers);
+  const auto rows = std::int64_t(rows_of(d));
+  if (pick < named)
+    return interesting_integers[pick];
+  if (pick < named + 3)
+    return rows - 1 + (pick - std::int64_t(named));
+  return std::int64_t(bytes.word(8));
+}
+
+void set_value(Dataset& d, Bytes& bytes) {
+  const std::size_t size = d.size();
+  const std::size_t at = size == 0 ? 0 : bytes.word(4) % size;
+  if (size == 0)
+    return;
+  if (d.kind == Kind::real)
+    d.reals[at] = real_from(bytes);
+  else
+    d.integers[at] = integer_from(bytes, d);
+}
+
+// One element moved by a small step: an index one off, a count one short.
+void shift_value(Dataset& d, Bytes& bytes) {
+  const std::size_t size = d.size();
+  const std::size_t at = size == 0 ? 0 : bytes.word(4) % size;
+  const auto step = std::int8_t(bytes.byte());
+  if (size == 0)
+    return;
+  if (d.kind == Kind::real)
+    d.reals[at] += step * (d.reals[at] == 0 ? 1.0 : d.reals[at] / 64);
+  else
+    d.integers[at] =
+        std::int64_t(std::uint64_t(d.integers[at]) + std::uint64_t(std::int64_t(step)));
+}
+
+template <class Value> void resize_cyclic(std::vector<Value>& values, std::size_t size) {
+  const std::size_t old_size = values.size();
+  values.resize(size);
+  for (std::size_t k = old_size; k < size && old_size > 0; ++k)
+    values[k] = values[k % old_size];
+}
+
+void resize_values(Dataset& d, std::size_t size) {
+  if (d.kind == Kind::real)
+    resize_cyclic(d.reals, size);
+  else
+    resize_cyclic(d.integers, size);
+}
+
+void resize_rows(Dataset& d, Bytes& bytes) {
+  if (d.kind == Kind::text)
+    return;
+  const std::size_t rows = rows_of(d), columns = columns_of(d);
+  const std::size_t choices[] = {0, rows > 0 ? rows - 1 : 0, rows + 1, 2 * rows};
+  const std::uint8_t pick = bytes.byte();
+  const std::size_t new_rows =
+      std::min(largest_rows, pick < 4 * std::size(choices) ? choices[pick % std::size(choices)]
+                                                           : std::size_t(bytes.byte()));
+  d.shape = d.shape.size() == 2 ? std::vector<hsize_t>{new_rows, columns}
+                                : std::vector<hsize_t>{new_rows};
+  resize_values(d, new_rows * columns);
+}
+
+void reshape_columns(Dataset& d, Bytes& bytes) {
+  if (d.kind == Kind::text)
+    return;
+  const std::size_t columns = bytes.byte() % 5;
+  const std::size_t rows = columns == 0 ? 0 : d.size() / columns;
+  d.shape = {rows, columns};
+  resize_values(d, rows * columns);
+}
+
+void change_kind(Dataset& d, Bytes& bytes) {
+  if (d.kind == Kind::text)
+    return;
+  const Kind kinds[] = {Kind::real, Kind::int32, Kind::int64, Kind::uint64};
+  const Kind kind = kinds[bytes.byte() % std::size(kinds)];
+  if ((kind == Kind::real) == (d.kind == Kind::real)) {
+    d.kind = kind;
+    return;
+  }
+  if (kind == Kind::real) {
+    d.reals.assign(d.integers.begin(), d.integers.end());
+    d.integers.clear();
+  } else {
+    for (double value : d.reals)
+      d.integers.push_back(std::isfinite(value) && std::abs(value) < 9e18 ? std::int64_t(value)
+                                                                          : 0);
+    d.reals.clear();
+  }
+  d.kind = kind;
+}
+
+void toggle_scalar(Dataset& d) {
+  if (d.kind == Kind::text)
+    return;
+  if (d.shape.empty()) {
+    d.shape = {1, 1};
+    return;
+  }
+  d.shape = {};
+  resize_values(d, 1);
+  if (d.size() == 0 && d.kind == Kind::real)
+    d.reals = {0.0};
+  else if (d.size() == 0)
+    d.integers = {0};
+}
+
+void edit_text(Dataset& d, Bytes& bytes) {
+  const std::uint8_t pick = bytes.byte();
+  const char c = char(bytes.byte());
+  const std::size_t at = d.text.empty() ? 0 : bytes.word(2) % d.text.size();
+  if (pick % 3 == 0 || d.text.empty())
+    d.text.insert(d.text.begin() + at, c);
+  else if (pick % 3 == 1)
+    d.text[at] = c;
+  else
+    d.text.resize(at);
+}
+
+void apply_edit(CheckpointImage& image, Bytes& bytes) {
+  auto& datasets = image.datasets;
+  if (datasets.empty())
+    return;
+  const std::size_t target = bytes.word(2) % datasets.size();
+  const std::uint8_t operation = bytes.byte() % 9;
+  Dataset& d = datasets[target];
+  switch (operation) {
+  case 0:
+    set_value(d, bytes);
+    break;
+  case 1:
+    shift_value(d, bytes);
+    break;
+  case 2:
+    resize_rows(d, bytes);
+    break;
+  case 3:
+    reshape_columns(d, bytes);
+    break;
+  case 4:
+    datasets.erase(datasets.begin() + std::ptrdiff_t(target));
+    break;
+  case 5:
+    change_kind(d, bytes);
+    break;
+  case 6:
+    toggle_scalar(d);
+    break;
+  case 7: {
+    const Dataset& source = datasets[bytes.word(2) % datasets.size()];
+    const std::string name = d.name;
+    d = source;
+    d.name = name;
+    break;
+  }
+  default:
+    if (d.kind == Kind::text)
+      edit_text(d, bytes);
+    else
+      set_value(d, bytes);
+  }
+}
+
+// ---- HDF5 -------------------------------------------------------------------------------------
+
+herr_t collect_link(hid_t group, const char* name, const H5L_info_t*, void* names) {
+  const hid_t object = H5Oopen(group, name, H5P_DEFAULT);
+  if (object >= 0) {
+    if (H5Iget_type(object) == H5I_DATASET)
+      static_cast<std::vector<std::string>*>(names)->push_back(name);
+    H5Oclose(object);
+  }
+  return 0;
+}
+
+std::vector<std::string> dataset_names(const std::string& path) {
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (file < 0)
+    throw std::runtime_error(path + ": cannot open");
+  std::vector<std::string> names;
+  H5Lvisit(file, H5_INDEX_NAME, H5_ITER_INC, collect_link, &names);
+  H5Fclose(file);
+  return names;
+}
+
+Kind kind_of(const std::string& path, const std::string& name) {
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t dataset = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+  const hid_t type = H5Dget_type(dataset);
+  Kind kind = Kind::text;
+  if (H5Tget_class(type) == H5T_FLOAT)
+    kind = Kind::real;
+  else if (H5Tget_class(type) == H5T_INTEGER && H5Tget_size(type) == 4)
+    kind = Kind::int32;
+  else if (H5Tget_class(type) == H5T_INTEGER)
+    kind = H5Tget_sign(type) == H5T_SGN_NONE ? Kind::uint64 : Kind::int64;
+  H5Tclose(type);
+  H5Dclose(dataset);
+  H5Fclose(file);
+  return kind;
+}
+
+Dataset read_dataset(const Hdf5Reader& in, const std::string& name, Kind kind) {
+  Dataset d;
+  d.name = name;
+  d.kind = kind;
+  d.shape = in.shape(name);
+  switch (kind) {
+  case Kind::real:
+    d.reals = in.read_doubles(name);
+    break;
+  case Kind::int32: {
+    const auto values = in.read_ints(name);
+    d.integers.assign(values.begin(), values.end());
+    break;
+  }
+  case Kind::int64:
+    d.integers = in.read_int64(name);
+    break;
+  case Kind::uint64: {
+    const auto values = in.read_uint64(name);
+    d.integers.assign(values.begin(), values.end());
+    break;
+  }
+  case Kind::text:
+    d.text = in.read_string(name);
+    break;
+  }
+  return d;
+}
+
+template <class Value> std::vector<Value> converted(const std::vector<std::int64_t>& integers) {
+  return std::vector<Value>(integers.begin(), integers.end());
+}
+
+void write_dataset(Hdf5Writer& out, const Dataset& d) {
+  const bool scalar = d.shape.empty();
+  switch (d.kind) {
+  case Kind::real:
+    if (scalar)
+      out.write_scalar(d.name, d.reals.at(0));
+    else
+      out.write(d.name, d.reals, d.shape);
+    break;
+  case Kind::int32:
+    out.write(d.name, converted<int>(d.integers), scalar ? std::vector<hsize_t>{1} : d.shape);
+    break;
+  case Kind::int64:
+    if (scalar)
+      out.write_scalar(d.name, d.integers.at(0));
+    else
+      out.write(d.name, d.integers, d.shape);
+    break;
+  case Kind::uint64:
+    if (scalar)
+      out.write_scalar(d.name, std::uint64_t(d.integers.at(0)));
+    else
+      out.write(d.name, converted<std::uint64_t>(d.integers), d.shape);
+    break;
+  case Kind::text:
+    out.write_string(d.name, d.text);
+    break;
+  }
+}
+
+} // namespace
+
+CheckpointImage read_image(const std::string& path) {
+  CheckpointImage image;
+  const Hdf5Reader in(path);
+  for (const std::string& name : dataset_names(path))
+    image.datasets.push_back(read_dataset(in, name, kind_of(path, name)));
+  return image;
+}
+
+void write_image(const CheckpointImage& image, const std::string& path) {
+  Hdf5Writer out(path);
+  for (const Dataset& d : image.datasets)
+    write_dataset(out, d);
+  out.close();
+}
+
+void apply_edits(CheckpointImage& image, const std::uint8_t* data, std::size_t size) {
+  Bytes bytes(data, size);
+  for (int edit = 0; edit < 16 && !bytes.empty(); ++edit)
+    apply_edit(image, bytes);
+}
+
+} // namespace kdem::fuzz

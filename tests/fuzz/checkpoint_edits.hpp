@@ -1,0 +1,39 @@
+#pragma once
+// A checkpoint held in memory as its datasets, edits to it driven by fuzz input bytes, and the
+// HDF5 reading and writing of it (for the checkpoint_reader fuzz target).
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <hdf5.h>
+
+namespace kdem::fuzz {
+
+struct Dataset {
+  enum class Kind { real, int32, int64, uint64, text };
+  std::string name;
+  Kind kind = Kind::real;
+  std::vector<hsize_t> shape;         // {} for a scalar
+  std::vector<double> reals;          // Kind::real
+  std::vector<std::int64_t> integers; // the integer kinds (uint64 stored bit for bit)
+  std::string text;                   // Kind::text
+
+  std::size_t size() const { return kind == Kind::real ? reals.size() : integers.size(); }
+};
+
+struct CheckpointImage {
+  std::vector<Dataset> datasets; // in name order
+};
+
+// Every dataset of the file, with its element kind and shape.
+CheckpointImage read_image(const std::string& path);
+
+// A new HDF5 file at path holding the image's datasets (intermediate groups created).
+void write_image(const CheckpointImage& image, const std::string& path);
+
+// Reads edits from the bytes until they run out (at most 16): each names a dataset and an
+// operation with its operands. Any byte string is a valid list of edits.
+void apply_edits(CheckpointImage& image, const std::uint8_t* data, std::size_t size);
+
+} // namespace kdem::fuzz

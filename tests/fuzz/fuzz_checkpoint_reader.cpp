@@ -1,0 +1,113 @@
+// libFuzzer target: the checkpoint reader on checkpoints that differ from a real one. The input
+// is a list of edits (checkpoint_edits.hpp) applied to every dataset kdem reads: values set to
+// extremes, NaN or an index just out of range; rows added or cut; columns, element types and
+// scalars changed; datasets removed or swapped. The edited checkpoint is written as a valid HDF5
+// file and read back by Engine::read_checkpoint, which must either refuse it with a
+// std::runtime_error, leaving the engine as it was, or take it, after which the engine runs a few
+// steps (every kernel then follows the indices the file gave). A crash, a sanitizer report,
+// another exception type or a refusal that changed the engine is a defect.
+//
+// The bytes of the HDF5 file itself are not mutated: HDF5's own parser is not kdem's code (see
+// docs/fuzzing.md). The scene is tests/fuzz/scene_files/checkpoint.yaml, found through
+// KDEM_FUZZ_BASE_DIR (default: the working directory).
+#include <Kokkos_Core.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include <unistd.h>
+
+#include "checkpoint_edits.hpp"
+#include "engine.hpp"
+#include "scene_loader.hpp"
+
+namespace {
+
+using kdem::fuzz::CheckpointImage;
+
+struct Base {
+  std::unique_ptr<kdem::Engine> engine;
+  std::string checkpoint_path; // the real checkpoint
+  std::string edited_path;     // where each input's edited checkpoint is written
+  CheckpointImage image;
+  kdem::ParticleSnapshot particles; // the engine's state after reading the real checkpoint
+};
+
+std::filesystem::path scratch_folder() {
+  const char* tmp = std::getenv("TMPDIR");
+  auto folder = std::filesystem::path(tmp ? tmp : "/tmp") /
+                ("kdem-fuzz-checkpoint-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(folder);
+  return folder;
+}
+
+// Runs the scene until particles touch each other and both walls, so that the checkpoint's
+// contact lists carry history.
+void run_until_contacts(kdem::Engine& engine) {
+  for (int chunk = 0; chunk < 400; ++chunk) {
+    const kdem::Diagnostics d = engine.diagnostics();
+    if (d.pair_contacts >= 3 && d.wall_contacts >= 3)
+      return;
+    engine.advance(50);
+  }
+  throw std::runtime_error("the fuzz scene made no contacts");
+}
+
+Base& base() {
+  static Base* made = [] {
+    if (!Kokkos::is_initialized())
+      Kokkos::initialize();
+    const char* dir = std::getenv("KDEM_FUZZ_BASE_DIR");
+    const std::string scene_path = std::string(dir ? dir : ".") + "/checkpoint.yaml";
+    auto* b = new Base;
+    b->engine = std::make_unique<kdem::Engine>(kdem::load_scene(scene_path));
+    run_until_contacts(*b->engine);
+    const auto folder = scratch_folder();
+    b->checkpoint_path = (folder / "base.h5").string();
+    b->edited_path = (folder / "edited.h5").string();
+    b->engine->write_checkpoint(b->checkpoint_path);
+    b->image = kdem::fuzz::read_image(b->checkpoint_path);
+    b->particles = b->engine->snapshot();
+    return b;
+  }();
+  return *made;
+}
+
+void require(bool ok, const char* what) {
+  if (!ok) {
+    std::cerr << "checkpoint_reader: " << what << "\n";
+    std::abort();
+  }
+}
+
+} // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  Base& b = base();
+  CheckpointImage edited = b.image;
+  kdem::fuzz::apply_edits(edited, data, size);
+  kdem::fuzz::write_image(edited, b.edited_path);
+  bool taken = true;
+  try {
+    b.engine->read_checkpoint(b.edited_path);
+  } catch (const std::runtime_error&) {
+    taken = false;
+  }
+  if (!taken) {
+    const kdem::ParticleSnapshot now = b.engine->snapshot();
+    require(now.id == b.particles.id && now.position == b.particles.position &&
+                now.velocity == b.particles.velocity,
+            "a refused checkpoint changed the engine");
+    return 0;
+  }
+  b.engine->advance(3);
+  b.engine->check_health();
+  b.engine->read_checkpoint(b.checkpoint_path);
+  return 0;
+}
