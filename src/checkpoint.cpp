@@ -85,10 +85,130 @@ void write_names(Hdf5Writer& out, const std::string& name, const std::vector<std
   out.write_string(name, joined);
 }
 
+// The checkpoint's datasets, each value checked as it is read; every refusal is a
+// std::runtime_error naming the file.
+class CheckedInput {
+public:
+  explicit CheckedInput(const std::string& path) : path_(path), file_(path) {}
+
+  void require(bool ok, const std::string& what) const {
+    if (!ok)
+      throw std::runtime_error(path_ + ": checkpoint does not match the scene: " + what);
+  }
+  const Hdf5Reader& file() const { return file_; }
+  bool has(const std::string& name) const { return file_.has(name); }
+  std::int64_t integer(const std::string& name) const { return file_.read_scalar_int64(name); }
+  std::string text(const std::string& name) const { return file_.read_string(name); }
+
+  // A number of rows: what a View index holds.
+  int count(const std::string& name) const {
+    return int(bounded(name, std::numeric_limits<int>::max(), "a count"));
+  }
+  // A counter the run increments (steps, insertions): far from overflowing.
+  std::int64_t counter(const std::string& name) const {
+    return bounded(name, largest_counter, "a counter below 2^53");
+  }
+  double finite(const std::string& name) const {
+    const double value = file_.read_scalar_double(name);
+    if (!std::isfinite(value))
+      throw std::runtime_error(path_ + ": checkpoint value " + name + " is not finite");
+    return value;
+  }
+  // A number of particles held as a real (a source's fraction owed): converted to an integer.
+  double amount(const std::string& name) const {
+    const double value = finite(name);
+    require(value >= 0 && value <= double(largest_counter), name + " is not between 0 and 2^53");
+    return value;
+  }
+  double positive(const std::string& name) const {
+    const double value = finite(name);
+    require(value > 0, name + " is not positive");
+    return value;
+  }
+
+private:
+  static constexpr std::int64_t largest_counter = std::int64_t(1) << 53;
+
+  std::int64_t bounded(const std::string& name, std::int64_t most, const char* what) const {
+    const std::int64_t value = file_.read_scalar_int64(name);
+    if (value < 0 || value > most)
+      throw std::runtime_error(path_ + ": checkpoint value " + name + " = " +
+                               std::to_string(value) + " is not " + what);
+    return value;
+  }
+
+  std::string path_;
+  Hdf5Reader file_;
+};
+
 std::string rng_state(const std::mt19937_64& rng) {
   std::ostringstream text;
   text << rng;
   return text.str();
+}
+
+// The scalars of the run; false when the file predates the energy budget. (Templates on the
+// engine's private state type, which they never name.)
+template <class State> bool read_counters(State& s, const CheckedInput& in) {
+  s.time = in.finite("time");
+  s.step_count = in.counter("step");
+  s.next_id = in.counter("next_id");
+  s.largest_radius = in.finite("largest_radius");
+  s.smallest_radius = in.positive("smallest_radius");
+  s.last_build_time = in.finite("last_build_time");
+  s.list_builds = in.counter("list_builds");
+  s.needs_rebuild = in.integer("needs_rebuild") != 0;
+  s.discharged_mass = in.finite("discharged_mass");
+  s.discharged_count = in.counter("discharged_count");
+  // Checkpoints written before the run checks existed lack these: nothing was lost, and the
+  // energy budget starts from the restart's state (set after the particles are read).
+  s.lost_mass = in.has("lost_mass") ? in.finite("lost_mass") : 0;
+  s.lost_count = in.has("lost_count") ? in.counter("lost_count") : 0;
+  const bool has_energy_budget = in.has("energy_budget");
+  if (has_energy_budget) {
+    s.energy_budget = in.finite("energy_budget");
+    s.initial_overlap_ratio = in.finite("initial_overlap_ratio");
+  }
+  return has_energy_budget;
+}
+
+void read_sources(std::vector<SourceState>& sources, const CheckedInput& in) {
+  for (std::size_t k = 0; k < sources.size(); ++k) {
+    const std::string group = "sources/" + std::to_string(k) + "/";
+    in.require(in.has(group + "rng"), "particle sources differ");
+    std::istringstream text(in.text(group + "rng"));
+    text >> sources[k].rng;
+    in.require(!text.fail(), "the random state of source " + std::to_string(k) + " does not parse");
+    sources[k].inserted = in.counter(group + "inserted");
+    sources[k].next_insertion = in.finite(group + "next_insertion");
+    sources[k].owed = in.amount(group + "owed");
+  }
+}
+
+// The particle, pair and wall-contact tables (checked afterwards, as a whole).
+template <class State> void read_tables(State& s, const CheckedInput& in, std::int64_t format) {
+  const int particle_count = in.count("particle_count");
+  // The count sizes the fields a format 1 file lacks: it must be the rows the file holds.
+  const auto id_shape = in.file().shape("particles/id");
+  in.require(!id_shape.empty() && id_shape[0] == hsize_t(particle_count),
+             "particle_count differs from the rows of particles/id");
+  for_each_particle_field([&](const char* name, auto member) {
+    load_view_of_format(in.file(), format, std::string("particles/") + name, s.particles.*member,
+                        particle_count);
+  });
+  s.particles.count = particle_count;
+  load_view(in.file(), "ids_at_build", s.ids_at_build);
+  for_each_pair_list_field([&](const char* name, auto member) {
+    load_view_of_format(in.file(), format, std::string("pairs/") + name, s.pairs.*member, 0);
+  });
+  s.pairs.pair_count = in.count("pair_count");
+  s.pairs.slot_count = int(s.pairs.overlap.extent(0));
+  for_each_wall_contact_field([&](const char* name, auto member) {
+    load_view_of_format(in.file(), format, std::string("wall_contacts/") + name,
+                        s.wall_contacts.*member, 0);
+  });
+  s.wall_contacts.entry_count = in.count("wall_entry_count");
+  s.wall_contacts.slot_count = int(s.wall_contacts.overlap.extent(0));
 }
 
 } // namespace
@@ -144,87 +264,21 @@ void Engine::write_checkpoint(const std::string& path) const {
 // read and checked: a refused checkpoint leaves the engine as it was.
 void Engine::read_checkpoint(const std::string& path) {
   State s = *state_;
-  Hdf5Reader in(path);
-  auto require = [&](bool ok, const std::string& what) {
-    if (!ok)
-      throw std::runtime_error(path + ": checkpoint does not match the scene: " + what);
-  };
-  auto count_of = [&](const std::string& name) {
-    const std::int64_t value = in.read_scalar_int64(name);
-    if (value < 0 || value > std::numeric_limits<int>::max())
-      throw std::runtime_error(path + ": checkpoint value " + name + " = " + std::to_string(value) +
-                               " is not a count");
-    return value;
-  };
-  auto finite_of = [&](const std::string& name) {
-    const double value = in.read_scalar_double(name);
-    if (!std::isfinite(value))
-      throw std::runtime_error(path + ": checkpoint value " + name + " is not finite");
-    return value;
-  };
-  const std::int64_t format = in.read_scalar_int64("format");
-  require(format == 1 || format == checkpoint_format,
-          "unknown checkpoint format " + std::to_string(format));
-  require(in.read_scalar_int64("material_count") == std::int64_t(s.scene.materials.size()),
-          "material count differs");
-  require(in.read_scalar_int64("wall_element_count") == s.walls.elements.count,
-          "wall elements differ");
-  s.time = finite_of("time");
-  s.step_count = in.read_scalar_int64("step");
-  require(s.step_count >= 0, "negative step");
-  s.next_id = in.read_scalar_int64("next_id");
-  s.largest_radius = finite_of("largest_radius");
-  s.smallest_radius = in.read_scalar_double("smallest_radius");
-  s.last_build_time = finite_of("last_build_time");
-  s.list_builds = in.read_scalar_int64("list_builds");
-  s.needs_rebuild = in.read_scalar_int64("needs_rebuild") != 0;
-  s.discharged_mass = finite_of("discharged_mass");
-  s.discharged_count = in.read_scalar_int64("discharged_count");
-  // Checkpoints written before the run checks existed lack these: nothing was lost, and the
-  // energy budget starts from the restart's state (set after the particles are read).
-  s.lost_mass = in.has("lost_mass") ? finite_of("lost_mass") : 0;
-  s.lost_count = in.has("lost_count") ? in.read_scalar_int64("lost_count") : 0;
-  require(s.discharged_count >= 0 && s.lost_count >= 0 && s.list_builds >= 0,
-          "a negative count of discharged or lost particles or of list builds");
-  require(s.smallest_radius > 0, "smallest_radius is not positive");
-  const bool has_energy_budget = in.has("energy_budget");
-  if (has_energy_budget) {
-    s.energy_budget = finite_of("energy_budget");
-    s.initial_overlap_ratio = finite_of("initial_overlap_ratio");
-  }
-  for (std::size_t k = 0; k < s.sources.size(); ++k) {
-    const std::string group = "sources/" + std::to_string(k) + "/";
-    require(in.has(group + "rng"), "particle sources differ");
-    std::istringstream text(in.read_string(group + "rng"));
-    text >> s.sources[k].rng;
-    require(!text.fail(), "the random state of source " + std::to_string(k) + " does not parse");
-    s.sources[k].inserted = in.read_scalar_int64(group + "inserted");
-    require(s.sources[k].inserted >= 0, "negative insertion count of source " + std::to_string(k));
-    s.sources[k].next_insertion = finite_of(group + "next_insertion");
-    s.sources[k].owed = finite_of(group + "owed");
-  }
-  const int particle_count = int(count_of("particle_count"));
-  for_each_particle_field([&](const char* name, auto member) {
-    load_view_of_format(in, format, std::string("particles/") + name, s.particles.*member,
-                        particle_count);
-  });
-  s.particles.count = particle_count;
-  load_view(in, "ids_at_build", s.ids_at_build);
-  for_each_pair_list_field([&](const char* name, auto member) {
-    load_view_of_format(in, format, std::string("pairs/") + name, s.pairs.*member, 0);
-  });
-  s.pairs.pair_count = int(count_of("pair_count"));
-  s.pairs.slot_count = int(s.pairs.overlap.extent(0));
-  for_each_wall_contact_field([&](const char* name, auto member) {
-    load_view_of_format(in, format, std::string("wall_contacts/") + name, s.wall_contacts.*member,
-                        0);
-  });
-  s.wall_contacts.entry_count = int(count_of("wall_entry_count"));
-  s.wall_contacts.slot_count = int(s.wall_contacts.overlap.extent(0));
-  allocate_wall_contact_results(s.wall_contacts);
+  const CheckedInput in(path);
+  const std::int64_t format = in.integer("format");
+  in.require(format == 1 || format == checkpoint_format,
+             "unknown checkpoint format " + std::to_string(format));
+  in.require(in.integer("material_count") == std::int64_t(s.scene.materials.size()),
+             "material count differs");
+  in.require(in.integer("wall_element_count") == s.walls.elements.count, "wall elements differ");
+  const bool has_energy_budget = read_counters(s, in);
+  read_sources(s.sources, in);
+  read_tables(s, in, format);
   s.check_restored_particles(path);
   s.families_present |= present_families(s.particles, s.shape_families);
   s.check_restored_lists(path);
+  // Sized by the entry count, which the checks above have matched to the file's tables.
+  allocate_wall_contact_results(s.wall_contacts);
   s.classify_families(s.pairs);
   update_wall_poses(s.walls, s.time);
   if (!has_energy_budget)

@@ -135,6 +135,28 @@ TEST_F(CheckpointChecks, ANegativeParticleCountIsRefused) {
   expect_refused("particle_count = -3 is not a count");
 }
 
+// Found by the checkpoint_reader fuzz target: the engine allocated the entries' results for
+// this count (51 GB) before checking it against the tables.
+TEST_F(CheckpointChecks, AWallEntryCountBeyondTheTablesIsRefusedBeforeAnythingIsAllocated) {
+  edit_dataset<std::int64_t>(path_, "wall_entry_count", H5T_NATIVE_INT64,
+                             [](std::vector<std::int64_t>& v) { v[0] = 2147483647; });
+  expect_refused("wall_contacts/row_start ends at");
+}
+
+TEST_F(CheckpointChecks, AParticleCountOtherThanTheRowsIsRefused) {
+  edit_dataset<std::int64_t>(path_, "particle_count", H5T_NATIVE_INT64,
+                             [](std::vector<std::int64_t>& v) { v[0] += 1; });
+  expect_refused("particle_count differs from the rows of particles/id");
+}
+
+// The run increments it: a value near the limit would overflow within the run.
+TEST_F(CheckpointChecks, AStepCountNearOverflowIsRefused) {
+  edit_dataset<std::int64_t>(path_, "step", H5T_NATIVE_INT64, [](std::vector<std::int64_t>& v) {
+    v[0] = std::numeric_limits<std::int64_t>::max();
+  });
+  expect_refused("step = 9223372036854775807 is not a counter below 2^53");
+}
+
 TEST_F(CheckpointChecks, PairOffsetsOutOfOrderAreRefused) {
   edit_dataset<int>(path_, "pairs/row_start", H5T_NATIVE_INT, [](std::vector<int>& v) {
     const std::size_t middle = v.size() / 2;

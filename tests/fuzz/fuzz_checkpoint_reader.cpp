@@ -23,6 +23,8 @@
 
 #include <unistd.h>
 
+#include <hdf5.h>
+
 #include "checkpoint_edits.hpp"
 #include "engine.hpp"
 #include "scene_loader.hpp"
@@ -39,12 +41,23 @@ struct Base {
   kdem::ParticleSnapshot particles; // the engine's state after reading the real checkpoint
 };
 
-std::filesystem::path scratch_folder() {
-  const char* tmp = std::getenv("TMPDIR");
-  auto folder = std::filesystem::path(tmp ? tmp : "/tmp") /
-                ("kdem-fuzz-checkpoint-" + std::to_string(::getpid()));
-  std::filesystem::create_directories(folder);
-  return folder;
+// A folder of this process for the checkpoints, removed when the process exits normally (a
+// crash leaves it, with the edited checkpoint that caused it).
+const std::filesystem::path& scratch_folder() {
+  // Never destroyed: the exit handler below runs after static destructors.
+  static const auto* folder = [] {
+    const char* tmp = std::getenv("TMPDIR");
+    auto* made = new std::filesystem::path(std::filesystem::path(tmp ? tmp : "/tmp") /
+                                           ("kdem-fuzz-checkpoint-" + std::to_string(::getpid())));
+    std::filesystem::create_directories(*made);
+    return made;
+  }();
+  static const bool removed_at_exit = std::atexit([] {
+                                        std::error_code ignored;
+                                        std::filesystem::remove_all(*folder, ignored);
+                                      }) == 0;
+  (void)removed_at_exit;
+  return *folder;
 }
 
 // Runs the scene until particles touch each other and both walls, so that the checkpoint's
@@ -63,6 +76,10 @@ Base& base() {
   static Base* made = [] {
     if (!Kokkos::is_initialized())
       Kokkos::initialize();
+    // HDF5 keeps freed blocks for reuse up to limits that its file-cache block (half a megabyte,
+    // one per open file) exceeds; unlimited, an open reuses the block instead of mapping fresh
+    // pages (with the sanitizers' allocator, half the time of an input went to that).
+    H5set_free_list_limits(-1, -1, -1, -1, -1, -1);
     const char* dir = std::getenv("KDEM_FUZZ_BASE_DIR");
     const std::string scene_path = std::string(dir ? dir : ".") + "/checkpoint.yaml";
     auto* b = new Base;
