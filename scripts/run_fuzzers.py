@@ -46,16 +46,10 @@ def parse_stats(log):
     return stats
 
 
-def run_target(binary, name, args, out):
-    corpus = out / "corpus" / name
-    artifacts = out / "artifacts" / name
-    corpus.mkdir(parents=True, exist_ok=True)
-    if artifacts.exists():
-        shutil.rmtree(artifacts)
-    artifacts.mkdir(parents=True)
-    command = [
+def worker_command(binary, name, args, corpus, artifacts, runs):
+    return [
         str(binary),
-        f"-runs={args.runs}",
+        f"-runs={runs}",
         f"-max_total_time={args.seconds}",
         f"-timeout={args.timeout}",
         f"-rss_limit_mb={args.rss_limit_mb}",
@@ -66,33 +60,63 @@ def run_target(binary, name, args, out):
         str(corpus),
         str(FUZZ_DIR / "corpus" / name),
     ]
+
+
+def run_target(binary, name, args, out):
+    """Runs --workers fuzzer processes on one shared working corpus (each reloads what the
+    others add); --runs executions in all, shared out evenly."""
+    corpus = out / "corpus" / name
+    artifacts = out / "artifacts" / name
+    corpus.mkdir(parents=True, exist_ok=True)
+    if artifacts.exists():
+        shutil.rmtree(artifacts)
+    artifacts.mkdir(parents=True)
     env = dict(os.environ)
     env["KDEM_FUZZ_BASE_DIR"] = str(FUZZ_DIR / "scene_files")
     env.setdefault("ASAN_OPTIONS", "detect_leaks=1:abort_on_error=0")
     env.setdefault("UBSAN_OPTIONS", "print_stacktrace=1:halt_on_error=1")
-    # The mesh target writes its scratch files here; a private folder per run.
+    # The targets write their scratch files here; a private folder per run.
     scratch = tempfile.mkdtemp(prefix=f"kdem-fuzz-{name}-")
     env["TMPDIR"] = scratch
-    log_path = out / f"{name}.log"
+    workers = args.workers
+    runs = [args.runs if args.runs < 0 else args.runs // workers + (w < args.runs % workers)
+            for w in range(workers)]
+    logs = [out / (f"{name}.log" if workers == 1 else f"{name}.{w}.log") for w in range(workers)]
     start = time.monotonic()
-    with open(log_path, "w") as log:
-        status = subprocess.run(command, stdout=log, stderr=subprocess.STDOUT, env=env).returncode
+    processes = []
+    for w in range(workers):
+        log = open(logs[w], "w")
+        command = worker_command(binary, name, args, corpus, artifacts, runs[w])
+        processes.append((subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, env=env),
+                          log))
+    # A worker that fails stops the others: its input is what the run is for.
+    while any(process.poll() is None for process, _ in processes):
+        if any(process.poll() not in (None, 0) for process, _ in processes):
+            for process, _ in processes:
+                if process.poll() is None:
+                    process.terminate()
+        time.sleep(0.5)
+    statuses = [process.wait() for process, _ in processes]
+    for _, log in processes:
+        log.close()
     seconds = time.monotonic() - start
     shutil.rmtree(scratch, ignore_errors=True)
-    text = log_path.read_text(errors="replace")
-    stats = parse_stats(text)
-    executions = stats.get("number_of_executed_units", 0)
+    stats = [parse_stats(path.read_text(errors="replace")) for path in logs]
+    executions = sum(st.get("number_of_executed_units", 0) for st in stats)
+    status = next((code for code in statuses if code != 0), 0)
     found = sorted(p.name for p in artifacts.iterdir())
+    peak = [st["peak_rss_mb"] for st in stats if "peak_rss_mb" in st]
     return {
         "target": name,
         "exit_status": status,
+        "workers": workers,
         "executions": executions,
         "seconds": round(seconds, 1),
         "executions_per_second": round(executions / seconds) if seconds > 0 else 0,
-        "peak_rss_mb": stats.get("peak_rss_mb"),
+        "peak_rss_mb": max(peak) if peak else None,
         "corpus_files": sum(1 for _ in corpus.iterdir()),
         "artifacts": found,
-        "log": str(log_path.relative_to(ROOT)) if log_path.is_relative_to(ROOT) else str(log_path),
+        "logs": [str(p.relative_to(ROOT)) if p.is_relative_to(ROOT) else str(p) for p in logs],
         "ok": status == 0 and not found,
     }
 
@@ -106,7 +130,11 @@ def main():
     parser.add_argument("--runs", type=int, default=-1, help="executions per target (-1: no limit)")
     parser.add_argument("--timeout", type=int, default=10, help="seconds one input may take")
     parser.add_argument("--rss-limit-mb", type=int, default=2048)
+    parser.add_argument("--workers", type=int, default=1,
+                        help="fuzzer processes per target, sharing one corpus")
     args = parser.parse_args()
+    if args.workers < 1:
+        parser.error("--workers must be at least 1")
     if args.seconds <= 0 and args.runs < 0:
         parser.error("give --seconds or --runs (a run without either never ends)")
     out = Path(args.out).resolve()
@@ -120,11 +148,11 @@ def main():
             sys.exit(f"{binary}: not built (make fuzz builds it)")
         result = run_target(binary, name, args, out)
         results.append(result)
-        verdict = "ok" if result["ok"] else f"FAILED (exit {result['exit_status']}, see {result['log']})"
+        verdict = "ok" if result["ok"] else f"FAILED (exit {result['exit_status']}, see {', '.join(result['logs'])})"
         print(f"fuzz {name}: {result['executions']} executions in {result['seconds']} s "
               f"({result['executions_per_second']}/s), corpus {result['corpus_files']} files: {verdict}")
     summary = {"settings": {"seconds": args.seconds, "runs": args.runs, "timeout": args.timeout,
-                            "rss_limit_mb": args.rss_limit_mb},
+                            "rss_limit_mb": args.rss_limit_mb, "workers": args.workers},
                "targets": results}
     with tempfile.NamedTemporaryFile("w", dir=out, delete=False, suffix=".tmp") as tmp:
         json.dump(summary, tmp, indent=2)
