@@ -50,6 +50,17 @@ public:
                                      std::to_string(total));
   }
 
+  // The contact slots of a list's entries: one each, or the partition contact_start gives.
+  void slots(const std::string& list, bool one_slot_each, const IndexView& contact_start,
+             long entries, long slots) const {
+    if (one_slot_each)
+      require(slots == entries, list + "/overlap has " + std::to_string(slots) +
+                                    " rows, expected one per entry (" + std::to_string(entries) +
+                                    ")");
+    else
+      offsets(list + "/contact_start", contact_start, entries, slots);
+  }
+
   template <class View>
   void indices(const std::string& name, const View& view, long lo, long hi) const {
     const auto h = host_copy(view);
@@ -177,12 +188,7 @@ void check_pairs(const RestoreCheck& check, const PairList& l, const ListContext
                derived.contact_start);
   }
   const long slots = l.slot_count;
-  if (l.one_slot_per_pair())
-    check.require(slots == count, "pairs/overlap has " + std::to_string(slots) +
-                                      " rows, expected one per pair (" + std::to_string(count) +
-                                      ")");
-  else
-    check.offsets("pairs/contact_start", l.contact_start, count, slots);
+  check.slots("pairs", l.one_slot_per_pair(), l.contact_start, count, slots);
   check.optional_rows("pairs/feature_i", l.feature_i, slots, !l.one_slot_per_pair());
   check.optional_rows("pairs/feature_j", l.feature_j, slots, !l.one_slot_per_pair());
   check.rows("pairs/tangential_spring", l.tangential_spring, slots);
@@ -217,12 +223,7 @@ void check_wall_contacts(const RestoreCheck& check, const WallContactList& l,
                derived.contact_start);
   }
   const long slots = l.slot_count;
-  if (l.one_slot_per_entry())
-    check.require(slots == count, "wall_contacts/overlap has " + std::to_string(slots) +
-                                      " rows, expected one per entry (" + std::to_string(count) +
-                                      ")");
-  else
-    check.offsets("wall_contacts/contact_start", l.contact_start, count, slots);
+  check.slots("wall_contacts", l.one_slot_per_entry(), l.contact_start, count, slots);
   check.optional_rows("wall_contacts/feature", l.feature, slots, !l.one_slot_per_entry());
   check.rows("wall_contacts/tangential_spring", l.tangential_spring, slots);
   check.optional_rows("wall_contacts/rolling_torque", l.rolling_torque, slots, c.rolling);
