@@ -27,13 +27,13 @@ template <class View> void save_view(Hdf5Writer& out, const std::string& name, c
 template <class View> void load_view(const Hdf5Reader& in, const std::string& name, View& view) {
   using Value = typename View::non_const_value_type;
   std::vector<Value> values;
+  std::vector<hsize_t> shape;
   if constexpr (std::is_same_v<Value, double>)
-    values = in.read_doubles(name);
+    values = in.read_doubles(name, &shape);
   else if constexpr (std::is_same_v<Value, int>)
-    values = in.read_ints(name);
+    values = in.read_ints(name, &shape);
   else
-    values = in.read_int64(name);
-  const auto shape = in.shape(name);
+    values = in.read_int64(name, &shape);
   constexpr std::size_t columns = View::rank == 1 ? 1 : View::static_extent(1);
   if (shape.size() != 2 || shape[1] != columns)
     throw std::runtime_error(in.path().string() + ": checkpoint dataset " + name +

@@ -301,6 +301,16 @@ bool Hdf5Reader::has(const std::string& name) const {
 }
 
 hid_t Hdf5Reader::open_dataset(const std::string& name) const {
+  // Opened straight away (a missing path fails cleanly); the path is walked only to say why
+  // an open failed, which costs several lookups per dataset.
+  {
+    ErrorPrintingSilenced silenced;
+    const hid_t dataset = H5Dopen2(file_, name.c_str(), H5P_DEFAULT);
+    if (dataset >= 0) {
+      return dataset;
+    }
+    H5Eclear2(H5E_DEFAULT);
+  }
   if (!has(name)) {
     throw error(name, "no such dataset");
   }
@@ -312,22 +322,31 @@ hid_t Hdf5Reader::open_dataset(const std::string& name) const {
   return dataset;
 }
 
-std::vector<hsize_t> Hdf5Reader::shape(const std::string& name) const {
-  Handle dataset(open_dataset(name), H5Dclose);
-  Handle dataspace(H5Dget_space(dataset.get()), H5Sclose);
-  if (H5Sget_simple_extent_type(dataspace.get()) == H5S_NULL) {
+namespace {
+
+std::vector<hsize_t> dimensions_of(hid_t dataspace) {
+  if (H5Sget_simple_extent_type(dataspace) == H5S_NULL) {
     return {0};
   }
   std::vector<hsize_t> dimensions(
-      static_cast<std::size_t>(std::max(0, H5Sget_simple_extent_ndims(dataspace.get()))));
-  H5Sget_simple_extent_dims(dataspace.get(), dimensions.data(), nullptr);
+      static_cast<std::size_t>(std::max(0, H5Sget_simple_extent_ndims(dataspace))));
+  H5Sget_simple_extent_dims(dataspace, dimensions.data(), nullptr);
   return dimensions;
+}
+
+} // namespace
+
+std::vector<hsize_t> Hdf5Reader::shape(const std::string& name) const {
+  Handle dataset(open_dataset(name), H5Dclose);
+  Handle dataspace(H5Dget_space(dataset.get()), H5Sclose);
+  return dimensions_of(dataspace.get());
 }
 
 template <class Value>
 std::vector<Value> Hdf5Reader::read_array(const std::string& name, H5T_class_t expected_class,
                                           std::size_t expected_size, H5T_sign_t expected_sign,
-                                          hid_t memory_type, const char* type_name) const {
+                                          hid_t memory_type, const char* type_name,
+                                          std::vector<hsize_t>* shape) const {
   Handle dataset(open_dataset(name), H5Dclose);
   ErrorPrintingSilenced silenced;
   Handle stored_type(H5Dget_type(dataset.get()), H5Tclose);
@@ -341,6 +360,9 @@ std::vector<Value> Hdf5Reader::read_array(const std::string& name, H5T_class_t e
                           " values, not " + type_name);
   }
   Handle dataspace(H5Dget_space(dataset.get()), H5Sclose);
+  if (shape) {
+    *shape = dimensions_of(dataspace.get());
+  }
   const hssize_t count = H5Sget_simple_extent_npoints(dataspace.get());
   std::vector<Value> values(static_cast<std::size_t>(std::max<hssize_t>(0, count)));
   if (!values.empty() &&
@@ -350,23 +372,26 @@ std::vector<Value> Hdf5Reader::read_array(const std::string& name, H5T_class_t e
   return values;
 }
 
-std::vector<double> Hdf5Reader::read_doubles(const std::string& name) const {
+std::vector<double> Hdf5Reader::read_doubles(const std::string& name,
+                                             std::vector<hsize_t>* shape) const {
   return read_array<double>(name, H5T_FLOAT, 8, H5T_SGN_ERROR, H5T_NATIVE_DOUBLE,
-                            "64-bit floating point");
+                            "64-bit floating point", shape);
 }
 
-std::vector<int> Hdf5Reader::read_ints(const std::string& name) const {
-  return read_array<int>(name, H5T_INTEGER, 4, H5T_SGN_2, H5T_NATIVE_INT, "32-bit signed integer");
+std::vector<int> Hdf5Reader::read_ints(const std::string& name, std::vector<hsize_t>* shape) const {
+  return read_array<int>(name, H5T_INTEGER, 4, H5T_SGN_2, H5T_NATIVE_INT, "32-bit signed integer",
+                         shape);
 }
 
-std::vector<std::int64_t> Hdf5Reader::read_int64(const std::string& name) const {
+std::vector<std::int64_t> Hdf5Reader::read_int64(const std::string& name,
+                                                 std::vector<hsize_t>* shape) const {
   return read_array<std::int64_t>(name, H5T_INTEGER, 8, H5T_SGN_2, H5T_NATIVE_INT64,
-                                  "64-bit signed integer");
+                                  "64-bit signed integer", shape);
 }
 
 std::vector<std::uint64_t> Hdf5Reader::read_uint64(const std::string& name) const {
   return read_array<std::uint64_t>(name, H5T_INTEGER, 8, H5T_SGN_NONE, H5T_NATIVE_UINT64,
-                                   "64-bit unsigned integer");
+                                   "64-bit unsigned integer", nullptr);
 }
 
 template <class Value>

@@ -70,10 +70,13 @@ public:
   std::vector<hsize_t> shape(const std::string& name) const; // {} for a scalar
 
   // Element types must match what the Writer stores: 64-bit float, 32-bit signed, 64-bit
-  // signed, 64-bit unsigned integers. A scalar reads as a one-element vector.
-  std::vector<double> read_doubles(const std::string& name) const;
-  std::vector<int> read_ints(const std::string& name) const;
-  std::vector<std::int64_t> read_int64(const std::string& name) const;
+  // signed, 64-bit unsigned integers. A scalar reads as a one-element vector. With `shape`,
+  // also the dataset's shape (as shape() gives it), from the same open.
+  std::vector<double> read_doubles(const std::string& name,
+                                   std::vector<hsize_t>* shape = nullptr) const;
+  std::vector<int> read_ints(const std::string& name, std::vector<hsize_t>* shape = nullptr) const;
+  std::vector<std::int64_t> read_int64(const std::string& name,
+                                       std::vector<hsize_t>* shape = nullptr) const;
   std::vector<std::uint64_t> read_uint64(const std::string& name) const;
 
   // A dataset holding exactly one value (a scalar, or an array of one element).
@@ -88,7 +91,8 @@ private:
   template <class Value>
   std::vector<Value> read_array(const std::string& name, H5T_class_t expected_class,
                                 std::size_t expected_size, H5T_sign_t expected_sign,
-                                hid_t memory_type, const char* type_name) const;
+                                hid_t memory_type, const char* type_name,
+                                std::vector<hsize_t>* shape) const;
   template <class Value>
   Value single_value(const std::string& name, std::vector<Value> values) const;
   hid_t open_dataset(const std::string& name) const;

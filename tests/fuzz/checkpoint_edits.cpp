@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <stdexcept>
 
@@ -196,13 +197,14 @@ void edit_text(Dataset& d, Bytes& bytes) {
     d.text.resize(at);
 }
 
-void apply_edit(CheckpointImage& image, Bytes& bytes) {
+void apply_edit(CheckpointImage& image, Bytes& bytes, std::set<std::string>& touched) {
   auto& datasets = image.datasets;
   if (datasets.empty())
     return;
   const std::size_t target = bytes.word(2) % datasets.size();
   const std::uint8_t operation = bytes.byte() % 9;
   Dataset& d = datasets[target];
+  touched.insert(d.name);
   switch (operation) {
   case 0:
     set_value(d, bytes);
@@ -308,38 +310,76 @@ Dataset read_dataset(const Hdf5Reader& in, const std::string& name, Kind kind) {
   return d;
 }
 
-template <class Value> std::vector<Value> converted(const std::vector<std::int64_t>& integers) {
-  return std::vector<Value>(integers.begin(), integers.end());
-}
-
-void write_dataset(Hdf5Writer& out, const Dataset& d) {
-  const bool scalar = d.shape.empty();
+// The file type of a dataset of this kind, as kdem's Hdf5Writer stores it;
+// a text's type is made for its length and closed by the caller.
+hid_t file_type_of(const Dataset& d) {
   switch (d.kind) {
   case Kind::real:
-    if (scalar)
-      out.write_scalar(d.name, d.reals.at(0));
-    else
-      out.write(d.name, d.reals, d.shape);
-    break;
+    return H5T_IEEE_F64LE;
   case Kind::int32:
-    out.write(d.name, converted<int>(d.integers), scalar ? std::vector<hsize_t>{1} : d.shape);
-    break;
+    return H5T_STD_I32LE;
   case Kind::int64:
-    if (scalar)
-      out.write_scalar(d.name, d.integers.at(0));
-    else
-      out.write(d.name, d.integers, d.shape);
-    break;
+    return H5T_STD_I64LE;
   case Kind::uint64:
-    if (scalar)
-      out.write_scalar(d.name, std::uint64_t(d.integers.at(0)));
-    else
-      out.write(d.name, converted<std::uint64_t>(d.integers), d.shape);
-    break;
+    return H5T_STD_U64LE;
   case Kind::text:
-    out.write_string(d.name, d.text);
     break;
   }
+  const hid_t text = H5Tcopy(H5T_C_S1);
+  H5Tset_size(text, d.text.empty() ? 1 : d.text.size());
+  H5Tset_strpad(text, H5T_STR_NULLPAD);
+  H5Tset_cset(text, H5T_CSET_UTF8);
+  return text;
+}
+
+hid_t dataspace_of(const Dataset& d) {
+  if (d.kind == Kind::text)
+    return H5Screate(d.text.empty() ? H5S_NULL : H5S_SCALAR);
+  if (d.shape.empty())
+    return H5Screate(H5S_SCALAR);
+  return H5Screate_simple(int(d.shape.size()), d.shape.data(), nullptr);
+}
+
+void create_dataset(hid_t file, const Dataset& d) {
+  const hid_t type = file_type_of(d), space = dataspace_of(d);
+  const hid_t dataset =
+      H5Dcreate2(file, d.name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  if (dataset < 0)
+    throw std::runtime_error("cannot create " + d.name);
+  std::vector<int> int32s(d.integers.begin(), d.integers.end());
+  const bool any = d.kind == Kind::text ? !d.text.empty() : d.size() > 0;
+  herr_t written = 0;
+  if (any) {
+    switch (d.kind) {
+    case Kind::real:
+      written = H5Dwrite(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, d.reals.data());
+      break;
+    case Kind::int32:
+      written = H5Dwrite(dataset, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, int32s.data());
+      break;
+    case Kind::int64:
+    case Kind::uint64: // the same 64 bits
+      written = H5Dwrite(dataset, d.kind == Kind::int64 ? H5T_NATIVE_INT64 : H5T_NATIVE_UINT64,
+                         H5S_ALL, H5S_ALL, H5P_DEFAULT, d.integers.data());
+      break;
+    case Kind::text:
+      written = H5Dwrite(dataset, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, d.text.data());
+      break;
+    }
+  }
+  H5Dclose(dataset);
+  H5Sclose(space);
+  if (d.kind == Kind::text)
+    H5Tclose(type);
+  if (written < 0)
+    throw std::runtime_error("cannot write " + d.name);
+}
+
+const Dataset* find(const CheckpointImage& image, const std::string& name) {
+  for (const Dataset& d : image.datasets)
+    if (d.name == name)
+      return &d;
+  return nullptr;
 }
 
 } // namespace
@@ -352,17 +392,27 @@ CheckpointImage read_image(const std::string& path) {
   return image;
 }
 
-void write_image(const CheckpointImage& image, const std::string& path) {
-  Hdf5Writer out(path);
-  for (const Dataset& d : image.datasets)
-    write_dataset(out, d);
-  out.close();
+void write_edited(const std::string& base_path, const CheckpointImage& image,
+                  const std::set<std::string>& touched, const std::string& path) {
+  std::filesystem::copy_file(base_path, path, std::filesystem::copy_options::overwrite_existing);
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  if (file < 0)
+    throw std::runtime_error(path + ": cannot open");
+  for (const std::string& name : touched) {
+    H5Ldelete(file, name.c_str(), H5P_DEFAULT);
+    if (const Dataset* d = find(image, name))
+      create_dataset(file, *d);
+  }
+  H5Fclose(file);
 }
 
-void apply_edits(CheckpointImage& image, const std::uint8_t* data, std::size_t size) {
+std::set<std::string> apply_edits(CheckpointImage& image, const std::uint8_t* data,
+                                  std::size_t size) {
   Bytes bytes(data, size);
+  std::set<std::string> touched;
   for (int edit = 0; edit < 16 && !bytes.empty(); ++edit)
-    apply_edit(image, bytes);
+    apply_edit(image, bytes, touched);
+  return touched;
 }
 
 } // namespace kdem::fuzz

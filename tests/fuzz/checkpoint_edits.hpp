@@ -3,6 +3,7 @@
 // HDF5 reading and writing of it (for the checkpoint_reader fuzz target).
 #include <cstddef>
 #include <cstdint>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -29,11 +30,15 @@ struct CheckpointImage {
 // Every dataset of the file, with its element kind and shape.
 CheckpointImage read_image(const std::string& path);
 
-// A new HDF5 file at path holding the image's datasets (intermediate groups created).
-void write_image(const CheckpointImage& image, const std::string& path);
-
 // Reads edits from the bytes until they run out (at most 16): each names a dataset and an
-// operation with its operands. Any byte string is a valid list of edits.
-void apply_edits(CheckpointImage& image, const std::uint8_t* data, std::size_t size);
+// operation with its operands. Any byte string is a valid list of edits. Returns the names of
+// the datasets edited or removed.
+std::set<std::string> apply_edits(CheckpointImage& image, const std::uint8_t* data,
+                                  std::size_t size);
+
+// The file at base_path (which `image` was read from, before the edits) copied to path, with
+// the touched datasets written again as the image holds them, or removed where it has none.
+void write_edited(const std::string& base_path, const CheckpointImage& image,
+                  const std::set<std::string>& touched, const std::string& path);
 
 } // namespace kdem::fuzz

@@ -108,8 +108,8 @@ void require(bool ok, const char* what) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   Base& b = base();
   CheckpointImage edited = b.image;
-  kdem::fuzz::apply_edits(edited, data, size);
-  kdem::fuzz::write_image(edited, b.edited_path);
+  const auto touched = kdem::fuzz::apply_edits(edited, data, size);
+  kdem::fuzz::write_edited(b.checkpoint_path, edited, touched, b.edited_path);
   bool taken = true;
   try {
     b.engine->read_checkpoint(b.edited_path);
