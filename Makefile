@@ -147,9 +147,10 @@ gpu-check: build
 
 FUZZ_SECONDS ?= 60
 FUZZ_RUNS ?= -1
+FUZZ_SEED ?= 0
 fuzz: deps-fuzz
 	$(call configure_build,fuzz,fuzz)
-	$(PYTHON) scripts/run_fuzzers.py --seconds $(FUZZ_SECONDS) --runs $(FUZZ_RUNS)
+	$(PYTHON) scripts/run_fuzzers.py --seconds $(FUZZ_SECONDS) --runs $(FUZZ_RUNS) --seed $(FUZZ_SEED)
 
 demo: build
 	build/openmp/bin/kdem run cases/hopper/hopper_spheres.yaml --out out/demo

@@ -46,7 +46,7 @@ def parse_stats(log):
     return stats
 
 
-def worker_command(binary, name, args, corpus, artifacts, runs):
+def worker_command(binary, name, args, corpus, artifacts, runs, worker):
     return [
         str(binary),
         f"-runs={runs}",
@@ -57,6 +57,8 @@ def worker_command(binary, name, args, corpus, artifacts, runs):
         f"-artifact_prefix={artifacts}/",
         "-print_final_stats=1",
         f"-detect_leaks={int(PER_INPUT_LEAK_CHECK[name])}",
+        # libFuzzer takes 0 as "pick one"; workers with a fixed seed each get their own
+        f"-seed={args.seed + worker if args.seed else 0}",
         str(corpus),
         str(FUZZ_DIR / "corpus" / name),
     ]
@@ -86,7 +88,7 @@ def run_target(binary, name, args, out):
     processes = []
     for w in range(workers):
         log = open(logs[w], "w")
-        command = worker_command(binary, name, args, corpus, artifacts, runs[w])
+        command = worker_command(binary, name, args, corpus, artifacts, runs[w], w)
         processes.append((subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, env=env),
                           log))
     # A worker that fails stops the others: its input is what the run is for.
@@ -130,6 +132,9 @@ def main():
     parser.add_argument("--runs", type=int, default=-1, help="executions per target (-1: no limit)")
     parser.add_argument("--timeout", type=int, default=10, help="seconds one input may take")
     parser.add_argument("--rss-limit-mb", type=int, default=2048)
+    parser.add_argument("--seed", type=int, default=0,
+                        help="random seed (0: a new one each run); CI fixes it, so that a short "
+                             "run tries the same inputs every time")
     parser.add_argument("--workers", type=int, default=1,
                         help="fuzzer processes per target, sharing one corpus")
     args = parser.parse_args()
@@ -152,7 +157,8 @@ def main():
         print(f"fuzz {name}: {result['executions']} executions in {result['seconds']} s "
               f"({result['executions_per_second']}/s), corpus {result['corpus_files']} files: {verdict}")
     summary = {"settings": {"seconds": args.seconds, "runs": args.runs, "timeout": args.timeout,
-                            "rss_limit_mb": args.rss_limit_mb, "workers": args.workers},
+                            "rss_limit_mb": args.rss_limit_mb, "workers": args.workers,
+                            "seed": args.seed},
                "targets": results}
     with tempfile.NamedTemporaryFile("w", dir=out, delete=False, suffix=".tmp") as tmp:
         json.dump(summary, tmp, indent=2)
