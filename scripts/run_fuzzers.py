@@ -2,7 +2,9 @@
 """Runs kdem's libFuzzer targets (preset fuzz) and writes what they did.
 
 Each target runs on its own working corpus (out/fuzz/corpus/<target>, kept between runs so that
-later runs start from what earlier ones found), merged with the seed corpus of tests/fuzz/corpus.
+later runs start from what earlier ones found), merged with the seed corpus of tests/fuzz/corpus
+and the inputs that once failed (tests/fuzz/regressions), which every run thus replays under the
+sanitizers.
 A run stops after --runs executions or --seconds seconds, whichever comes first, or at the first
 crash, hang (--timeout per input), leak or sanitizer report; the input that caused it is left in
 out/fuzz/artifacts/<target>/ (copy it into tests/fuzz/regressions/<target>/ to make it a
@@ -46,6 +48,12 @@ def parse_stats(log):
     return stats
 
 
+def regressions(name):
+    """The inputs that once failed: run first, under the sanitizers, by every fuzz run."""
+    folder = FUZZ_DIR / "regressions" / name
+    return [str(folder)] if folder.is_dir() else []
+
+
 def worker_command(binary, name, args, corpus, artifacts, runs, worker):
     return [
         str(binary),
@@ -61,7 +69,7 @@ def worker_command(binary, name, args, corpus, artifacts, runs, worker):
         f"-seed={args.seed + worker if args.seed else 0}",
         str(corpus),
         str(FUZZ_DIR / "corpus" / name),
-    ]
+    ] + regressions(name)
 
 
 def run_target(binary, name, args, out):

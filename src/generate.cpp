@@ -356,13 +356,15 @@ private:
 
   // The cell holding `point`, clamped to the grid. Clamping is monotonic, so a clamped query
   // range still holds the (clamped) cell of every sphere within reach, even of one whose centre
-  // lies outside the covered box: that box only affects speed, never the result.
+  // lies outside the covered box: that box only affects speed, never the result. A NaN
+  // coordinate (a particle gone wrong before the run checks see it) goes to cell 0, where it
+  // overlaps nothing, rather than into an undefined conversion.
   CellIndex cell_of(const Vec3d& point) const {
     CellIndex cell;
     for (std::size_t axis = 0; axis < 3; ++axis) {
       const double scaled = std::floor((point[axis] - origin_[axis]) * inverse_cell_size_);
       const double last = static_cast<double>(cell_counts_[axis] - 1);
-      cell[axis] = static_cast<std::int64_t>(std::clamp(scaled, 0.0, last));
+      cell[axis] = scaled >= 0 ? static_cast<std::int64_t>(std::min(scaled, last)) : 0;
     }
     return cell;
   }
