@@ -27,6 +27,7 @@
 
 #include "checkpoint_edits.hpp"
 #include "engine.hpp"
+#include "kernels/types.hpp"
 #include "scene_loader.hpp"
 
 namespace {
@@ -74,8 +75,10 @@ void run_until_contacts(kdem::Engine& engine) {
 
 Base& base() {
   static Base* made = [] {
-    if (!Kokkos::is_initialized())
+    if (!Kokkos::is_initialized()) {
       Kokkos::initialize();
+      kdem::install_memory_space_check<kdem::MemSpace>();
+    }
     // HDF5 keeps freed blocks for reuse up to limits that its file-cache block (half a megabyte,
     // one per open file) exceeds; unlimited, an open reuses the block instead of mapping fresh
     // pages (with the sanitizers' allocator, half the time of an input went to that).
