@@ -35,16 +35,25 @@ void size_grid(WallLookup& wall, const double lo[3], const double hi[3], double 
                long max_cells) {
   wall.cell_size = reach;
   for (;;) {
-    long total = 1;
+    double total = 1; // counted in doubles: a tiny cell must not overflow the integers
     for (int a = 0; a < 3; ++a) {
       wall.origin[a] = lo[a];
-      wall.dims[a] = 1 + int((hi[a] - lo[a]) / wall.cell_size);
-      total *= wall.dims[a];
+      total *= 1 + std::floor((hi[a] - lo[a]) / wall.cell_size);
     }
-    if (total <= max_cells)
-      return;
+    if (total <= double(max_cells))
+      break;
     wall.cell_size *= 1.25;
   }
+  for (int a = 0; a < 3; ++a)
+    wall.dims[a] = 1 + int(std::floor((hi[a] - lo[a]) / wall.cell_size));
+}
+
+// A box beyond the doubles (a particle reach of 1e300 m, say) cannot hold a grid.
+bool finite_box(const double lo[3], const double hi[3]) {
+  for (int a = 0; a < 3; ++a)
+    if (!std::isfinite(hi[a] - lo[a]))
+      return false;
+  return true;
 }
 
 // Index range along axis a of the cells whose centres may lie within `distance` of [lo, hi].
@@ -84,9 +93,13 @@ void bin_mesh_wall(const WallElementTable& table, WallLookup& wall, double reach
   const int triangles = wall.end_element - wall.first_element;
   double lo[3], hi[3];
   grown_box(table, wall.first_element, wall.end_element, reach, lo, hi);
-  size_grid(wall, lo, hi, reach, std::max(4096L, 16L * triangles));
   wall.reach = reach;
   wall.first_cell = cells.rows();
+  if (!finite_box(lo, hi)) {
+    wall.cell_size = 0; // no grid: every element is a candidate of every particle
+    return;
+  }
+  size_grid(wall, lo, hi, reach, std::max(4096L, 16L * triangles));
   // Relative margin: the distance test must not drop a triangle at rounding level.
   const double distance = (reach + 0.5 * std::sqrt(3.0) * wall.cell_size) * (1 + 1e-9);
   std::vector<std::pair<int, int>> cell_element;

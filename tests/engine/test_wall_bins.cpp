@@ -177,6 +177,23 @@ TEST(WallBins, UploadedTablesHoldTheVertexRings) {
   EXPECT_EQ(host_ints(elements.vertex_ring_start), table.vertex_ring_start);
 }
 
+// A reach whose grid box overflows the doubles (found by the checkpoint_reader fuzz target: a
+// particle radius of 1e308 m read from a checkpoint) leaves the mesh without a grid, every
+// element a candidate, instead of converting an infinite cell count to an integer.
+TEST(WallBins, AReachBeyondTheDoublesLeavesTheMeshUnbinned) {
+  MeshFolder folder;
+  const std::string ball = folder.write("ball", sphere_mesh({0, 0, 0}, 0.1, 7, 12));
+  const WallElementTable table =
+      build_wall_elements({mesh_wall("steel", ball)}, {-1, -1, -1}, {1, 1, 1});
+  const WallBinTable bins = bin_wall_elements(table, 1, 1e308);
+  ASSERT_EQ(bins.walls.size(), 1u);
+  EXPECT_FALSE(bins.walls[0].binned());
+  const CandidateSource source = candidate_source(bins.walls[0], Vec3{5, 5, 5}, 1e308);
+  EXPECT_TRUE(source.every_element);
+  const WallBinTable normal = bin_wall_elements(table, 1, 0.01);
+  EXPECT_TRUE(normal.walls[0].binned());
+}
+
 // A valley along y at x = x0 (concave edge), faces rising at 30 degrees to both sides.
 std::vector<Triangle> valley(double x0, double h, double z) {
   const double rise = h * std::tan(M_PI / 6);
