@@ -178,7 +178,7 @@ TEST(WallBins, UploadedTablesHoldTheVertexRings) {
 }
 
 // A reach whose grid box overflows the doubles (found by the checkpoint_reader fuzz target: a
-// particle radius of 1e308 m read from a checkpoint) leaves the mesh without a grid, every
+// checkpoint with radii near the largest double) leaves the mesh without a grid, every
 // element a candidate, instead of converting an infinite cell count to an integer.
 TEST(WallBins, AReachBeyondTheDoublesLeavesTheMeshUnbinned) {
   MeshFolder folder;
