@@ -50,17 +50,6 @@ public:
                                      std::to_string(total));
   }
 
-  // The contact slots of a list's entries: one each, or the partition contact_start gives.
-  void slots(const std::string& list, bool one_slot_each, const IndexView& contact_start,
-             long entries, long slots) const {
-    if (one_slot_each)
-      require(slots == entries, list + "/overlap has " + std::to_string(slots) +
-                                    " rows, expected one per entry (" + std::to_string(entries) +
-                                    ")");
-    else
-      offsets(list + "/contact_start", contact_start, entries, slots);
-  }
-
   template <class View>
   void indices(const std::string& name, const View& view, long lo, long hi) const {
     const auto h = host_copy(view);
@@ -163,6 +152,26 @@ struct ListContext {
   int wall_elements;
 };
 
+// What both lists keep per contact slot: the slots of their entries (one each, or the partition
+// contact_start gives), the spring, the rolling torque where the scene has rolling resistance and
+// the overlap, all finite.
+template <class List>
+void check_slot_history(const RestoreCheck& check, const std::string& list, const List& l,
+                        bool one_slot_each, long entries, bool rolling) {
+  const long slots = l.slot_count;
+  if (one_slot_each)
+    check.require(slots == entries, list + "/overlap has " + std::to_string(slots) +
+                                        " rows, expected one per entry (" +
+                                        std::to_string(entries) + ")");
+  else
+    check.offsets(list + "/contact_start", l.contact_start, entries, slots);
+  check.rows(list + "/tangential_spring", l.tangential_spring, slots);
+  check.optional_rows(list + "/rolling_torque", l.rolling_torque, slots, rolling);
+  check.finite(list + "/tangential_spring", l.tangential_spring);
+  check.finite(list + "/rolling_torque", l.rolling_torque);
+  check.finite(list + "/overlap", l.overlap);
+}
+
 void check_pairs(const RestoreCheck& check, const PairList& l, const ListContext& c) {
   const long count = l.pair_count;
   check.offsets("pairs/row_start", l.row_start, c.built, count);
@@ -187,12 +196,10 @@ void check_pairs(const RestoreCheck& check, const PairList& l, const ListContext
     check.same("pairs/contact_start is not what the pair types give", l.contact_start,
                derived.contact_start);
   }
+  check_slot_history(check, "pairs", l, l.one_slot_per_pair(), count, c.rolling);
   const long slots = l.slot_count;
-  check.slots("pairs", l.one_slot_per_pair(), l.contact_start, count, slots);
   check.optional_rows("pairs/feature_i", l.feature_i, slots, !l.one_slot_per_pair());
   check.optional_rows("pairs/feature_j", l.feature_j, slots, !l.one_slot_per_pair());
-  check.rows("pairs/tangential_spring", l.tangential_spring, slots);
-  check.optional_rows("pairs/rolling_torque", l.rolling_torque, slots, c.rolling);
   check.rows("pairs/force_on_i", l.force_on_i, count);
   check.rows("pairs/torque_on_i", l.torque_on_i, count);
   const bool narrow = c.narrow_phase_state;
@@ -203,9 +210,6 @@ void check_pairs(const RestoreCheck& check, const PairList& l, const ListContext
   check.optional_rows("pairs/separation_offset", l.separation_offset, count, narrow);
   check.optional_rows("pairs/turned_i_at_separation", l.turned_i_at_separation, count, narrow);
   check.optional_rows("pairs/turned_j_at_separation", l.turned_j_at_separation, count, narrow);
-  check.finite("pairs/tangential_spring", l.tangential_spring);
-  check.finite("pairs/rolling_torque", l.rolling_torque);
-  check.finite("pairs/overlap", l.overlap);
 }
 
 void check_wall_contacts(const RestoreCheck& check, const WallContactList& l,
@@ -222,14 +226,8 @@ void check_wall_contacts(const RestoreCheck& check, const WallContactList& l,
     check.same("wall_contacts/contact_start is not what the families give", l.contact_start,
                derived.contact_start);
   }
-  const long slots = l.slot_count;
-  check.slots("wall_contacts", l.one_slot_per_entry(), l.contact_start, count, slots);
-  check.optional_rows("wall_contacts/feature", l.feature, slots, !l.one_slot_per_entry());
-  check.rows("wall_contacts/tangential_spring", l.tangential_spring, slots);
-  check.optional_rows("wall_contacts/rolling_torque", l.rolling_torque, slots, c.rolling);
-  check.finite("wall_contacts/tangential_spring", l.tangential_spring);
-  check.finite("wall_contacts/rolling_torque", l.rolling_torque);
-  check.finite("wall_contacts/overlap", l.overlap);
+  check_slot_history(check, "wall_contacts", l, l.one_slot_per_entry(), count, c.rolling);
+  check.optional_rows("wall_contacts/feature", l.feature, l.slot_count, !l.one_slot_per_entry());
 }
 
 } // namespace

@@ -346,7 +346,6 @@ void create_dataset(hid_t file, const Dataset& d) {
       H5Dcreate2(file, d.name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   if (dataset < 0)
     throw std::runtime_error("cannot create " + d.name);
-  std::vector<int> int32s(d.integers.begin(), d.integers.end());
   const bool any = d.kind == Kind::text ? !d.text.empty() : d.size() > 0;
   herr_t written = 0;
   if (any) {
@@ -354,9 +353,11 @@ void create_dataset(hid_t file, const Dataset& d) {
     case Kind::real:
       written = H5Dwrite(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, d.reals.data());
       break;
-    case Kind::int32:
+    case Kind::int32: {
+      const std::vector<int> int32s(d.integers.begin(), d.integers.end());
       written = H5Dwrite(dataset, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, int32s.data());
       break;
+    }
     case Kind::int64:
     case Kind::uint64: // the same 64 bits
       written = H5Dwrite(dataset, d.kind == Kind::int64 ? H5T_NATIVE_INT64 : H5T_NATIVE_UINT64,
