@@ -33,22 +33,24 @@ KOKKOS_INLINE_FUNCTION Vec3 angular_velocity_of(Quat q, Vec3 inertia, Vec3 momen
 // Free rotation for time h about body axis `axis` (0, 1, 2): the body turns by
 // phi = h pi_k / I_k about that axis, and the body-frame momentum pi turns by -phi. Forced
 // inline: the five calls of free_rotation, each with a constant axis, then fold to straight code
-// with one sincos per angle; left to the compiler's unit-wide budget, a larger translation unit
-// once made it a call (+16 % instructions in the superquadric integration).
+// with one half-angle sine and cosine per angle; left to the compiler's unit-wide budget, a larger
+// translation unit once made it a call (+16 % instructions in the superquadric integration).
 KOKKOS_FORCEINLINE_FUNCTION void rotate_about_body_axis(int axis, double h, Vec3 inertia, Quat& q,
                                                         Vec3& body_momentum) {
   double pi_[3] = {body_momentum.x, body_momentum.y, body_momentum.z};
   const double inertia_[3] = {inertia.x, inertia.y, inertia.z};
   const double phi = h * pi_[axis] / inertia_[axis];
-  const double c = math::cos(phi), s = math::sin(phi);
+  double half_sine = 0, half_cosine = 1; // sin(phi), cos(phi) from those of phi / 2
+  half_angle_sine_cosine(phi, half_sine, half_cosine);
+  const double c = 1.0 - 2.0 * half_sine * half_sine, s = 2.0 * half_sine * half_cosine;
   const int a = (axis + 1) % 3, b = (axis + 2) % 3;
   const double pa = pi_[a], pb = pi_[b];
   pi_[a] = c * pa + s * pb;
   pi_[b] = -s * pa + c * pb;
   body_momentum = Vec3{pi_[0], pi_[1], pi_[2]};
   double half[3] = {0, 0, 0};
-  half[axis] = math::sin(0.5 * phi);
-  q = q * Quat{math::cos(0.5 * phi), half[0], half[1], half[2]};
+  half[axis] = half_sine;
+  q = q * Quat{half_cosine, half[0], half[1], half[2]};
 }
 
 KOKKOS_INLINE_FUNCTION Quat free_rotation(Quat q, Vec3 inertia, Vec3 momentum_world, double dt) {

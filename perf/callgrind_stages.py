@@ -12,6 +12,7 @@ natively with --kernel-times, for the kernel launches per step and the time per 
   perf/callgrind_stages.py --bin build/openmp/bin --out perf/results/callgrind_stages.json
   perf/callgrind_stages.py --bin build/openmp/bin --check perf/baseline/callgrind_stages.json
   perf/callgrind_stages.py --bin build/openmp/bin --write-baseline perf/baseline/callgrind_stages.json
+  perf/callgrind_stages.py --bin OLD/bin --settle-with build/openmp/bin/kdem --out before.json
 
 --check fails (exit 1) when a scene's instructions per particle-step, or those of a stage that
 holds at least 5 % of them, exceed the baseline by more than --limit (5 %).
@@ -57,9 +58,10 @@ def run(command, **kwargs):
     return result
 
 
-def measure_scene(name, spec, bin_dir, work):
+def measure_scene(name, spec, bin_dir, work, settler=None):
     serial = bin_dir / "kdem-serial"
-    settler = bin_dir / "kdem" if (bin_dir / "kdem").exists() else serial
+    if settler is None:
+        settler = bin_dir / "kdem" if (bin_dir / "kdem").exists() else serial
     scene = ROOT / spec["scene"]
     settled = work / f"{name}_settled"
     run([str(settler), "run", str(scene), "--out", str(settled), "--steps",
@@ -151,6 +153,8 @@ def main():
     parser.add_argument("--write-baseline", help="write the counts as the new baseline")
     parser.add_argument("--limit", type=float, default=0.05)
     parser.add_argument("--work", help="keep the runs and profiles in this folder")
+    parser.add_argument("--settle-with", help="settle the scenes with this kdem program (default: "
+                        "the one in --bin), so that two builds are counted from the same state")
     args = parser.parse_args()
     if shutil.which("valgrind") is None:
         sys.exit("callgrind_stages: valgrind not found (apt install valgrind)")
@@ -165,7 +169,8 @@ def main():
         work = Path(args.work) if args.work else Path(tmp)
         work.mkdir(parents=True, exist_ok=True)
         current = {"machine": machine(), "stages": step_stages.FUNCTION_STAGES,
-                   "scenes": {n: measure_scene(n, SCENES[n], bin_dir, work.resolve())
+                   "scenes": {n: measure_scene(n, SCENES[n], bin_dir, work.resolve(),
+                                               args.settle_with and Path(args.settle_with).resolve())
                               for n in names}}
     text = json.dumps(current, indent=2) + "\n"
     for target in (args.out, args.write_baseline):

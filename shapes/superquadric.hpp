@@ -46,8 +46,31 @@ KOKKOS_INLINE_FUNCTION SuperquadricShape make_superquadric(double a, double b, d
   return s;
 }
 
-// t^k for t >= 0 and a small non-negative integer k, by squaring.
+// t^k for t >= 0 and a small non-negative integer k: the powers of the common blockiness values
+// (n - 2 for n = 2, 3, 4, 6, 8, 10) written out, the others by squaring.
 KOKKOS_INLINE_FUNCTION double integer_power(double t, int k) {
+  switch (k) {
+  case 0:
+    return 1.0;
+  case 1:
+    return t;
+  case 2:
+    return t * t;
+  case 4: {
+    const double t2 = t * t;
+    return t2 * t2;
+  }
+  case 6: {
+    const double t2 = t * t;
+    return t2 * t2 * t2;
+  }
+  case 8: {
+    const double t2 = t * t, t4 = t2 * t2;
+    return t4 * t4;
+  }
+  default:
+    break;
+  }
   double result = 1.0;
   while (k > 0) {
     if (k & 1)
@@ -75,16 +98,16 @@ constexpr double superquadric_axis_threshold = 1e-100;
 
 template <bool WithHessian = true>
 KOKKOS_INLINE_FUNCTION ShapeFunction superquadric_local(const SuperquadricShape& s, Vec3 p) {
-  const double u = math::fabs(p.x) * s.inv_a, v = math::fabs(p.y) * s.inv_b,
-               w = math::fabs(p.z) * s.inv_c;
-  const double su = sign_of(p.x), sv = sign_of(p.y), sw = sign_of(p.z);
+  // x / a and |x / a| (likewise y, z): the odd powers take their sign from the signed ones.
+  const double xa = p.x * s.inv_a, yb = p.y * s.inv_b, zc = p.z * s.inv_c;
+  const double u = math::fabs(xa), v = math::fabs(yb), w = math::fabs(zc);
   const double n1 = s.n1, n2 = s.n2, k = s.conditioning;
 
   const double u_m2 = power_minus_two(u, n2, s.n2_integer),
                v_m2 = power_minus_two(v, n2, s.n2_integer);
-  const double u_m1 = u_m2 * u, v_m1 = v_m2 * v;
-  const double w_m2 = power_minus_two(w, n1, s.n1_integer), w_m1 = w_m2 * w;
-  const double section = u_m1 * u + v_m1 * v; // S
+  const double u_m1 = u_m2 * xa, v_m1 = v_m2 * yb; // sign(x) |x / a|^(n2 - 1), likewise y
+  const double w_m2 = power_minus_two(w, n1, s.n1_integer), w_m1 = w_m2 * zc;
+  const double section = u_m1 * xa + v_m1 * yb; // S
 
   ShapeFunction f;
   // S^(p-1) and S^(p-2) (the latter only where it is multiplied by (n1 - n2) != 0).
@@ -99,15 +122,14 @@ KOKKOS_INLINE_FUNCTION ShapeFunction superquadric_local(const SuperquadricShape&
     }
   }
   const double section_term = s.equal_exponents ? section : s_p1 * section;
-  f.value = k * (section_term + w_m1 * w - 1.0);
-  f.gradient = Vec3{k * n1 * s.inv_a * s_p1 * u_m1 * su, k * n1 * s.inv_b * s_p1 * v_m1 * sv,
-                    k * n1 * s.inv_c * w_m1 * sw};
+  f.value = k * (section_term + w_m1 * zc - 1.0);
+  f.gradient =
+      Vec3{k * n1 * s.inv_a * s_p1 * u_m1, k * n1 * s.inv_b * s_p1 * v_m1, k * n1 * s.inv_c * w_m1};
   if constexpr (WithHessian) {
     const double cross = (n1 - n2) * s_p2;
     f.hessian.m[0][0] = k * n1 * s.inv_a * s.inv_a * ((n2 - 1) * u_m2 * s_p1 + cross * u_m1 * u_m1);
     f.hessian.m[1][1] = k * n1 * s.inv_b * s.inv_b * ((n2 - 1) * v_m2 * s_p1 + cross * v_m1 * v_m1);
-    f.hessian.m[0][1] = f.hessian.m[1][0] =
-        k * n1 * s.inv_a * s.inv_b * cross * su * sv * u_m1 * v_m1;
+    f.hessian.m[0][1] = f.hessian.m[1][0] = k * n1 * s.inv_a * s.inv_b * cross * u_m1 * v_m1;
     f.hessian.m[2][2] = k * n1 * (n1 - 1) * s.inv_c * s.inv_c * w_m2;
   }
   return f;

@@ -292,22 +292,50 @@ KOKKOS_INLINE_FUNCTION bool homotopy_solve(const MidwayProblem& real, Unknowns& 
   return false;
 }
 
-// Root s > 0 of f(s) = F(origin + s direction), given f(0) < 0: F is convex along lines, so there
-// is one. Newton steps clamped to half the smallest semi-axis and kept inside a bracket that
-// starts at [0, a bound beyond the body's bounding sphere of radius |(a, b, c)|]. Searched in
-// the body frame, where a point costs no rotation.
+// The positive root of the quadratic model f0 + slope s + curvature s^2 / 2 of f(s) =
+// F(origin + s direction) at s = 0, given f0 < 0 and curvature >= 0 (F is convex), in the form
+// that does not cancel; 0 where the model has no positive root.
+KOKKOS_INLINE_FUNCTION double quadratic_model_root(double f0, double slope, double curvature) {
+  const double denominator =
+      slope + math::sqrt(math::max(0.0, slope * slope - 2.0 * curvature * f0));
+  const double root = -2.0 * f0 / denominator;
+  return denominator > 0 && kdem::is_finite(root) ? root : 0.0;
+}
+
+// Where the line from a point inside a body leaves it: the root s > 0 of f(s) = F(origin +
+// s direction), given f(0) < 0 (F is convex along lines, so there is one), with F, its gradient
+// and Hessian at the last point evaluated, in the body frame (for the curvature there).
+struct SurfaceCrossing {
+  double distance = 0;
+  ShapeFunction at_crossing;
+};
+
+// Newton from the root of the quadratic model of f at s = 0 (at_origin: F, world gradient and
+// body-frame Hessian at the origin, as the midway solve leaves them), which is within
+// O(s^3 / L^2) of the root, so that one Newton step usually ends the search. Steps are clamped
+// to half the smallest semi-axis and kept inside a bracket that starts at [0, a bound beyond the
+// body's bounding sphere of radius |(a, b, c)|]. Converged when the last correction c is below
+// the rounding of the bracket (`resolution`) or when Newton's error estimate after it,
+// f'' c^2 / (2 f'), is (f'' from the Hessian at the point, so the crossing costs one evaluation
+// with Hessian per step and none after). Searched in the body frame, where a point costs no
+// rotation.
 template <class Surface>
-KOKKOS_INLINE_FUNCTION bool surface_distance(const Surface& body, Vec3 origin, Vec3 direction,
-                                             double& distance) {
+KOKKOS_INLINE_FUNCTION bool surface_crossing(const Surface& body, Vec3 origin, Vec3 direction,
+                                             const ShapeFunction& at_origin,
+                                             SurfaceCrossing& crossing) {
   const Vec3 local_origin = body.to_local(origin);
   const Vec3 local_direction = transpose(body.rotation) * direction;
   double lo = 0;
   double hi = norm(local_origin) + body.reach();
   const double max_step = 0.5 * body.smallest_length();
   const double resolution = 4.0 * double_epsilon * (hi + body.smallest_length());
-  double x = 0;
+  double x =
+      math::min(quadratic_model_root(at_origin.value, dot(at_origin.gradient, direction),
+                                     dot(local_direction, at_origin.hessian * local_direction)),
+                hi);
   for (int iteration = 0; iteration < max_surface_iterations; ++iteration) {
-    const ShapeFunction f = body.template local<false>(local_origin + x * local_direction);
+    const ShapeFunction f = body.template local<true>(local_origin + x * local_direction);
+    crossing.at_crossing = f;
     if (!kdem::is_finite(f.value))
       return false;
     if (f.value < 0)
@@ -320,7 +348,10 @@ KOKKOS_INLINE_FUNCTION bool surface_distance(const Surface& body, Vec3 origin, V
     double next = 0.5 * (lo + hi);
     if (slope > 0 && kdem::is_finite(slope)) {
       const double correction = math::clamp(f.value / slope, -max_step, max_step);
-      if (math::fabs(correction) <= resolution) {
+      const double error_after =
+          0.5 * dot(local_direction, f.hessian * local_direction) * correction * correction / slope;
+      if (math::fabs(correction) <= resolution ||
+          (math::fabs(correction) < max_step && error_after <= resolution)) {
         x -= correction;
         break;
       }
@@ -331,33 +362,31 @@ KOKKOS_INLINE_FUNCTION bool surface_distance(const Surface& body, Vec3 origin, V
     if (hi - lo <= resolution)
       break;
   }
-  distance = x;
+  crossing.distance = x;
   return kdem::is_finite(x);
-}
-
-// Mean curvature of a body's surface at a world point: invariant under rotation, so taken from
-// the body-frame gradient and Hessian.
-template <class Surface>
-KOKKOS_INLINE_FUNCTION double surface_mean_curvature(const Surface& body, Vec3 point) {
-  return mean_curvature(body.template local<true>(body.to_local(point)));
 }
 
 // Surface points, overlap and curvatures on the line through x0 along the unit normal (from j
 // towards i): X_i = x0 - alpha n on i's side facing j, X_j = x0 + beta n, overlap alpha + beta.
-// This is the digest's alpha0 - beta0 with its normal grad F_i / |grad F_i| = -n.
+// This is the digest's alpha0 - beta0 with its normal grad F_i / |grad F_i| = -n. fi, fj: F of
+// each body at x0 with world gradient and body-frame Hessian (the midway solve's last
+// evaluation). The curvatures are those of the level sets through the last points evaluated,
+// within the last Newton correction of the surface points (see surface_crossing).
 template <class SurfaceI, class SurfaceJ>
 KOKKOS_INLINE_FUNCTION bool chord_geometry(const SurfaceI& i, const SurfaceJ& j, Vec3 x0,
-                                           Vec3 normal, NarrowPhaseResult& result) {
-  double alpha = 0, beta = 0;
-  if (!surface_distance(i, x0, -normal, alpha) || !surface_distance(j, x0, normal, beta))
+                                           Vec3 normal, const ShapeFunction& fi,
+                                           const ShapeFunction& fj, NarrowPhaseResult& result) {
+  SurfaceCrossing along_i, along_j;
+  if (!surface_crossing(i, x0, -normal, fi, along_i) ||
+      !surface_crossing(j, x0, normal, fj, along_j))
     return false;
-  const Vec3 surface_i = x0 - alpha * normal, surface_j = x0 + beta * normal;
+  const Vec3 surface_i = x0 - along_i.distance * normal, surface_j = x0 + along_j.distance * normal;
   result.geometry.touching = true;
-  result.geometry.overlap = alpha + beta;
+  result.geometry.overlap = along_i.distance + along_j.distance;
   result.geometry.normal = normal;
   result.geometry.point = 0.5 * (surface_i + surface_j);
-  result.curvature_i = surface_mean_curvature(i, surface_i);
-  result.curvature_j = surface_mean_curvature(j, surface_j);
+  result.curvature_i = mean_curvature(along_i.at_crossing);
+  result.curvature_j = mean_curvature(along_j.at_crossing);
   return kdem::is_finite(result.geometry.overlap) && is_finite(result.geometry.point) &&
          kdem::is_finite(result.curvature_i + result.curvature_j);
 }
@@ -497,7 +526,7 @@ superquadric_pair_contact(const PosedSuperquadric& i, const PosedSuperquadric& j
   result.state = MidwayState{u.x, math::fabs(u.w)};
   const Vec3 normal =
       unit_or_zero(unit_or_zero(e.fj.gradient) - unit_or_zero(e.fi.gradient)); // j towards i
-  if (e.fi.value < 0 && e.fj.value < 0 && !chord_geometry(i, j, u.x, normal, result))
+  if (e.fi.value < 0 && e.fj.value < 0 && !chord_geometry(i, j, u.x, normal, e.fi, e.fj, result))
     return failed_result(iterations);
   result.separation = separation_bound(i, j, u.x, e.fi, e.fj);
   return result;

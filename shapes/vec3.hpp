@@ -81,19 +81,46 @@ KOKKOS_INLINE_FUNCTION Vec3 rotate_inverse(Quat q, Vec3 v) {
   return rotate(Quat{q.w, -q.x, -q.y, -q.z}, v);
 }
 
-// Rotation by angle |phi| about phi/|phi|, exact for any angle. Below 1e-3 rad the series
-// cos(a/2) = 1 - a^2/8 + a^4/384, sin(a/2)/a = 1/2 - a^2/48 + a^4/3840 are exact to double
-// precision (next terms below 1e-19) and avoid the transcendental calls of every time step.
+// sin(a/2) / a and cos(a/2) of a rotation angle a. Below 1e-3 rad the series
+// cos(a/2) = 1 - a^2/8 + a^4/384, sin(a/2) / a = 1/2 - a^2/48 + a^4/3840 are exact to double
+// precision (next terms below 1e-19 relative) and avoid the transcendental calls of every time
+// step.
+struct HalfAngle {
+  double sine_over_angle = 0.5, cosine = 1;
+};
+
+constexpr double half_angle_series_limit2 = 1e-6; // a^2 below which the series are used
+
+KOKKOS_INLINE_FUNCTION HalfAngle half_angle_series(double angle2) {
+  const double a4 = angle2 * angle2;
+  return {0.5 - angle2 / 48.0 + a4 / 3840.0, 1.0 - angle2 / 8.0 + a4 / 384.0};
+}
+
+// sin(a/2) and cos(a/2).
+KOKKOS_INLINE_FUNCTION void half_angle_sine_cosine(double angle, double& sine, double& cosine) {
+  const double angle2 = angle * angle;
+  if (angle2 < half_angle_series_limit2) {
+    const HalfAngle h = half_angle_series(angle2);
+    sine = angle * h.sine_over_angle;
+    cosine = h.cosine;
+  } else {
+    sine = math::sin(0.5 * angle);
+    cosine = math::cos(0.5 * angle);
+  }
+}
+
+// Rotation by angle |phi| about phi/|phi|, exact for any angle.
 KOKKOS_INLINE_FUNCTION Quat quat_from_rotation_vector(Vec3 phi) {
   const double angle2 = norm2(phi);
-  if (angle2 < 1e-6) {
-    const double a4 = angle2 * angle2;
-    const double s = 0.5 - angle2 / 48.0 + a4 / 3840.0;
-    return {1.0 - angle2 / 8.0 + a4 / 384.0, s * phi.x, s * phi.y, s * phi.z};
+  HalfAngle h;
+  if (angle2 < half_angle_series_limit2) {
+    h = half_angle_series(angle2);
+  } else {
+    const double angle = math::sqrt(angle2);
+    h = {math::sin(0.5 * angle) / angle, math::cos(0.5 * angle)};
   }
-  const double angle = math::sqrt(angle2);
-  const double s = math::sin(0.5 * angle) / angle;
-  return {math::cos(0.5 * angle), s * phi.x, s * phi.y, s * phi.z};
+  const double s = h.sine_over_angle;
+  return {h.cosine, s * phi.x, s * phi.y, s * phi.z};
 }
 
 } // namespace kdem

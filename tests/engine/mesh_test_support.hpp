@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <unistd.h>
 #include <vector>
 
 #include "src/scene.hpp"
@@ -39,7 +40,9 @@ class MeshFolder {
 public:
   MeshFolder() {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::string name = std::string("kdem_mesh_") + info->test_suite_name() + "_" + info->name();
+    // The process id keeps the Serial and OpenMP runs of one test apart under `ctest -j`.
+    std::string name = std::string("kdem_mesh_") + std::to_string(::getpid()) + "_" +
+                       info->test_suite_name() + "_" + info->name();
     for (char& c : name)
       if (c == '/')
         c = '_';

@@ -90,7 +90,7 @@ struct SolveMidway {
       return out;
     const Vec3 normal = unit_or_zero(unit_or_zero(e.fj.gradient) - unit_or_zero(e.fi.gradient));
     if (e.fi.value < 0 && e.fj.value < 0) // inside both: the bodies overlap
-      out.chord = chord_geometry(pair.i, pair.j, u.x, normal, out.result);
+      out.chord = chord_geometry(pair.i, pair.j, u.x, normal, e.fi, e.fj, out.result);
     else
       out.separation = separation_bound(pair.i, pair.j, u.x, e.fi, e.fj);
     return out;

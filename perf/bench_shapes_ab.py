@@ -1,0 +1,106 @@
+#!/usr/bin/env python3
+"""Two builds of the shape benchmark side by side: the settled beds of perf/bench_scaling.py
+(perf/bench_spheres.cpp --shape S) at one N, OpenMP with a given number of threads, program A
+and program B in turn in each round, every shape in the same session. Reports per shape and
+program the median particle-steps per second over the rounds (each run itself the median of
+--repeat timed runs), the cost of a particle-step relative to the sphere bed of the same
+program, and B's gain over A.
+
+    /usr/bin/python3 perf/bench_shapes_ab.py --a OLD/bin/kdem_bench_openmp \\
+        --b build/openmp/bin/kdem_bench_openmp --label-a before --label-b after \\
+        --n 1e5 --rounds 3 --json perf/results/NAME.json
+
+The beds are settled once (the first program to need one) and cached in --cache-dir, so both
+programs start from the same bed.
+"""
+
+import argparse
+import json
+import statistics
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import bench_scaling  # noqa: E402
+import run_bench  # noqa: E402
+import stages as step_stages  # noqa: E402
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def one_run(binary, shape, n, args):
+    steps = max(20, int(round(bench_scaling.WORK[shape] / n)))
+    record = run_bench.measured_run(
+        lambda: run_bench.run_kdem(binary, n, steps, max(20, steps // 2), args.repeat,
+                                   args.threads, args.cache_dir, extra=["--shape", shape]), args)
+    stages = step_stages.kernel_stages({"kernels": record["kernels"]})
+    record["stage_ns_per_particle_step"] = {
+        s: 1e9 * t["seconds"] / (record["steps"] * record["n"]) for s, t in stages.items()}
+    return record
+
+
+def summary(runs, labels, shapes):
+    medians = {label: {shape: statistics.median(r["particle_steps_per_s"] for r in runs
+                                                if r["label"] == label and r["shape"] == shape)
+                       for shape in shapes} for label in labels}
+    rows = []
+    for shape in shapes:
+        row = {"shape": shape}
+        for label in labels:
+            rate = medians[label][shape]
+            row[label] = {"particle_steps_per_s": rate}
+            if "sphere" in shapes:
+                row[label]["cost_relative_to_sphere"] = medians[label]["sphere"] / rate
+        row["gain_b_over_a"] = medians[labels[1]][shape] / medians[labels[0]][shape]
+        rows.append(row)
+    return rows
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--a", required=True, help="kdem_bench_openmp program A")
+    parser.add_argument("--b", required=True, help="kdem_bench_openmp program B")
+    parser.add_argument("--label-a", default="a")
+    parser.add_argument("--label-b", default="b")
+    parser.add_argument("--shapes", nargs="+", default=list(bench_scaling.DEFAULT_SIZES))
+    parser.add_argument("--n", type=float, default=1e5)
+    parser.add_argument("--threads", type=int, default=2)
+    parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--repeat", type=int, default=3, help="timed runs per program run")
+    parser.add_argument("--cache-dir", default=str(bench_scaling.CACHE_DIR))
+    parser.add_argument("--json", required=True, help="write the runs and the summary here")
+    run_bench.add_quiet_arguments(parser)
+    args = parser.parse_args()
+    programs = {args.label_a: Path(args.a).resolve(), args.label_b: Path(args.b).resolve()}
+    n = int(args.n)
+    runs = []
+    for shape in args.shapes:
+        for round_index in range(args.rounds):
+            for label, binary in programs.items():
+                record = one_run(binary, shape, n, args)
+                record.update({"label": label, "program": str(binary), "shape": shape,
+                               "round": round_index})
+                runs.append(record)
+                run_bench.log(f"{shape:9s} {label:8s} round {round_index}: "
+                              f"{record['particle_steps_per_s']:.4g} particle-steps/s")
+    result = {"benchmark": "bench_shapes_ab", "machine": run_bench.machine_info(), "n": n,
+              "threads": args.threads, "rounds": args.rounds, "repeat": args.repeat,
+              "labels": [args.label_a, args.label_b], "programs": {k: str(v) for k, v in
+                                                                  programs.items()},
+              "summary": summary(runs, [args.label_a, args.label_b], args.shapes), "runs": runs}
+    path = Path(args.json)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_suffix(path.suffix + ".tmp")
+    tmp.write_text(json.dumps(result, indent=1) + "\n")
+    tmp.replace(path)
+    for row in result["summary"]:
+        cells = "  ".join(f"{label} {row[label]['particle_steps_per_s']:.3g}/s"
+                          + (f" ({row[label]['cost_relative_to_sphere']:.2f} x sphere)"
+                             if "cost_relative_to_sphere" in row[label] else "")
+                          for label in result["labels"])
+        print(f"{row['shape']:9s} {cells}  gain {row['gain_b_over_a']:.3f}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
