@@ -278,6 +278,11 @@ struct WallContactList {
   // centre, N m; summed per particle by sum_forces.
   Vec3View force_on_i;
   Vec3View torque_on_i;
+  // Per entry, a copy of its triangle's corners (reference frame; zero for other elements),
+  // derived from `element` whenever the list is made or read (copy_triangle_corners): the
+  // contact kernel rules out a triangle beyond the particle's bounding radius from the entry
+  // alone, without a load from the triangle's row, which on a large mesh is a cache miss.
+  DeviceView<double* [9]> triangle_corners;
 
   ContactSlots slots() const { return ContactSlots{contact_start}; }
   bool one_slot_per_entry() const { return contact_start.extent(0) == 0; }
@@ -313,9 +318,38 @@ KOKKOS_INLINE_FUNCTION bool element_within_reach(const WallElements& el, int e, 
              .signed_distance < reach;
 }
 
-inline void allocate_wall_contact_results(WallContactList& list) {
+inline void copy_triangle_corners(WallContactList& list, const WallElements& el) {
+  list.triangle_corners = DeviceView<double* [9]>("wall_triangle_corners", list.entry_count);
+  auto corners = list.triangle_corners;
+  auto element = list.element;
+  Kokkos::parallel_for(
+      "kdem::wall_triangle_corners", RangePolicy(0, list.entry_count), KOKKOS_LAMBDA(int k) {
+        const int e = element(k);
+        if (el.kind(e) == triangle_element)
+          for (int c = 0; c < 9; ++c)
+            corners(k, c) = el.geometry(e, c);
+      });
+}
+
+// Whether entry k's element is a triangle farther from the reference-frame centre p than a
+// particle of bounding radius r reaches, by the test claimed_triangle_feature makes first (so
+// that a sphere's contact is the same with or without this test).
+KOKKOS_INLINE_FUNCTION bool triangle_out_of_reach(const WallElements& el,
+                                                  const DeviceView<double* [9]>& corners, int k,
+                                                  int e, Vec3 p, double r) {
+  if (el.kind(e) != triangle_element)
+    return false;
+  const Vec3 a{corners(k, 0), corners(k, 1), corners(k, 2)};
+  const Vec3 b{corners(k, 3), corners(k, 4), corners(k, 5)};
+  const Vec3 c{corners(k, 6), corners(k, 7), corners(k, 8)};
+  return !(triangle_query(a, b, c, p).signed_distance < r * (1 + 1e-9));
+}
+
+// The per-entry results and derived copies of a list whose entries are set.
+inline void allocate_wall_contact_results(WallContactList& list, const WallElements& el) {
   list.force_on_i = Vec3View("wall_force", list.entry_count);
   list.torque_on_i = Vec3View("wall_torque", list.entry_count);
+  copy_triangle_corners(list, el);
 }
 
 // Gives the entries of particle i slots_of(i) contact slots each (count, scan); without this
@@ -333,7 +367,8 @@ void assign_wall_contact_slots(WallContactList& list, int particle_count, SlotsO
 }
 
 // The contact state of a wall list: per slot its history, per entry its force and torque.
-inline void allocate_wall_contacts(WallContactList& list, bool rolling_state) {
+inline void allocate_wall_contacts(WallContactList& list, const WallElements& el,
+                                   bool rolling_state) {
   if (list.one_slot_per_entry())
     list.slot_count = list.entry_count;
   const int slots = list.slot_count;
@@ -345,7 +380,7 @@ inline void allocate_wall_contacts(WallContactList& list, bool rolling_state) {
   if (rolling_state)
     list.rolling_torque = Vec3View("wall_rolling_torque", slots);
   list.overlap = ScalarView("wall_overlap", slots);
-  allocate_wall_contact_results(list);
+  allocate_wall_contact_results(list, el);
 }
 
 KOKKOS_INLINE_FUNCTION double segment_distance(Vec3 a, Vec3 b, Vec3 p) {
@@ -718,6 +753,9 @@ void compute_wall_contacts(const std::string& label, const ParticleViews& p, con
   auto pose = walls.pose;
   auto row_start = list.row_start;
   auto element = list.element;
+  auto corners = list.triangle_corners;
+  auto position = p.position;
+  auto radius = p.radius;
   const WallSlots slots(list);
   Kokkos::parallel_for(
       label, BalancedPolicy(0, count), KOKKOS_LAMBDA(int m) {
@@ -727,7 +765,9 @@ void compute_wall_contacts(const std::string& label, const ParticleViews& p, con
           const int e = element(k);
           const WallPose wall = pose(el.wall(e));
           WallContacts<K> found;
-          if (wall.active != 0)
+          if (wall.active != 0 &&
+              !triangle_out_of_reach(el, corners, k, e, wall.to_reference(load3(position, i)),
+                                     radius(i)))
             find_wall_contacts(contact_of, i, e, wall, found);
           WallHandover<K>::apply(el, slots, element, row_start(i + 1), contact_of, i, k, wall,
                                  found.count > 0, released);

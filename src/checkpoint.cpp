@@ -278,7 +278,7 @@ void Engine::read_checkpoint(const std::string& path) {
   s.families_present |= present_families(s.particles, s.shape_families);
   s.check_restored_lists(path);
   // Sized by the entry count, which the checks above have matched to the file's tables.
-  allocate_wall_contact_results(s.wall_contacts);
+  allocate_wall_contact_results(s.wall_contacts, s.walls.elements);
   s.classify_families(s.pairs);
   update_wall_poses(s.walls, s.time);
   if (!has_energy_budget)

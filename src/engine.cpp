@@ -486,7 +486,7 @@ void Engine::State::rebuild_lists() {
     bin_walls(largest_radius + list_skin);
   WallContactList fresh_walls = build_wall_contact_list(particles, walls, list_skin, sphere_shape);
   assign_wall_slots_by_family<Families>(fresh_walls, particles, shape_families, families_present);
-  allocate_wall_contacts(fresh_walls, rolling);
+  allocate_wall_contacts(fresh_walls, walls.elements, rolling);
   if (wall_contacts.entry_count > 0)
     transfer_wall_history(fresh_walls, wall_contacts, old_rows, particles.id, particles.count);
   wall_contacts = fresh_walls;

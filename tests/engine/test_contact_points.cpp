@@ -299,6 +299,7 @@ TEST(ContactPoints, ParticleWallContactsAppearAndVanishPerFeature) {
   walls.wall_count = 1;
   walls.elements.count = 1;
   walls.elements.wall = from_host<IndexView>("wall", {0}, 1);
+  walls.elements.kind = from_host<IndexView>("kind", {plane_element}, 1);
   walls.pose = DeviceView<WallPose*>("pose", 1); // at rest, identity, active, material 0
   WallContactList list;
   list.entry_count = 1;
@@ -306,7 +307,7 @@ TEST(ContactPoints, ParticleWallContactsAppearAndVanishPerFeature) {
   list.element = from_host<IndexView>("element", {0}, 1);
   list.element_key = from_host<IdView>("element_key", {0}, 1);
   assign_wall_contact_slots(list, 1, SlotsEach{2});
-  allocate_wall_contacts(list, false);
+  allocate_wall_contacts(list, walls.elements, false);
   CoefficientTable table("coefficients", 1, 1);
   auto host_table = Kokkos::create_mirror_view(table);
   host_table(0, 0) = coefficients();
