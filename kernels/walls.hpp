@@ -331,14 +331,11 @@ inline void copy_triangle_corners(WallContactList& list, const WallElements& el)
       });
 }
 
-// Whether entry k's element is a triangle farther from the reference-frame centre p than a
+// Whether the triangle of entry k lies farther from the reference-frame centre p than a
 // particle of bounding radius r reaches, by the test claimed_triangle_feature makes first (so
 // that a sphere's contact is the same with or without this test).
-KOKKOS_INLINE_FUNCTION bool triangle_out_of_reach(const WallElements& el,
-                                                  const DeviceView<double* [9]>& corners, int k,
-                                                  int e, Vec3 p, double r) {
-  if (el.kind(e) != triangle_element)
-    return false;
+KOKKOS_INLINE_FUNCTION bool triangle_out_of_reach(const DeviceView<double* [9]>& corners, int k,
+                                                  Vec3 p, double r) {
   const Vec3 a{corners(k, 0), corners(k, 1), corners(k, 2)};
   const Vec3 b{corners(k, 3), corners(k, 4), corners(k, 5)};
   const Vec3 c{corners(k, 6), corners(k, 7), corners(k, 8)};
@@ -765,9 +762,10 @@ void compute_wall_contacts(const std::string& label, const ParticleViews& p, con
           const int e = element(k);
           const WallPose wall = pose(el.wall(e));
           WallContacts<K> found;
-          if (wall.active != 0 &&
-              !triangle_out_of_reach(el, corners, k, e, wall.to_reference(load3(position, i)),
-                                     radius(i)))
+          const bool out_of_reach =
+              el.kind(e) == triangle_element &&
+              triangle_out_of_reach(corners, k, wall.to_reference(load3(position, i)), radius(i));
+          if (wall.active != 0 && !out_of_reach)
             find_wall_contacts(contact_of, i, e, wall, found);
           WallHandover<K>::apply(el, slots, element, row_start(i + 1), contact_of, i, k, wall,
                                  found.count > 0, released);
