@@ -52,14 +52,18 @@ KOKKOS_INLINE_FUNCTION Vec3 project_on_plane(Vec3 a, Vec3 unit_normal) {
   return a - dot(a, unit_normal) * unit_normal;
 }
 
-// Rotates a stored tangential vector onto the current tangent plane, keeping its length.
+// Rotates a stored tangential vector onto the current tangent plane, keeping its length (one
+// square root of the ratio of squared lengths; a fresh contact's zero vector costs none). A
+// vector within 1e-12 rad of the normal has no direction left in the plane: dropped.
 KOKKOS_INLINE_FUNCTION Vec3 rotate_onto_plane(Vec3 a, Vec3 unit_normal) {
-  const double old_length = norm(a);
-  const Vec3 projected = project_on_plane(a, unit_normal);
-  const double new_length = norm(projected);
-  if (new_length <= 1e-300)
+  const double old_length2 = norm2(a);
+  if (old_length2 == 0)
     return Vec3{};
-  return (old_length / new_length) * projected;
+  const Vec3 projected = project_on_plane(a, unit_normal);
+  const double new_length2 = norm2(projected);
+  if (!(new_length2 > 1e-24 * old_length2))
+    return Vec3{};
+  return math::sqrt(old_length2 / new_length2) * projected;
 }
 
 template <bool RollingResistance>
@@ -83,9 +87,9 @@ KOKKOS_INLINE_FUNCTION ContactOutput hertz_mindlin(const PairCoefficients& c,
   const Vec3 tangential_velocity = in.relative_velocity - normal_velocity * n;
   Vec3 spring = rotate_onto_plane(history.tangential_spring, n) + dt * tangential_velocity;
   Vec3 tangential_force = -tangential_stiffness * spring;
-  const double spring_force = norm(tangential_force);
-  if (spring_force > friction_limit) {
-    const double scale = spring_force > 0 ? friction_limit / spring_force : 0.0;
+  const double spring_force2 = norm2(tangential_force);
+  if (spring_force2 > friction_limit * friction_limit) { // sliding: the root only then
+    const double scale = friction_limit / math::sqrt(spring_force2);
     spring = scale * spring;
     tangential_force = scale * tangential_force;
   } else {

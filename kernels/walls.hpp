@@ -278,7 +278,8 @@ struct WallContactList {
   // centre, N m; summed per particle by sum_forces.
   Vec3View force_on_i;
   Vec3View torque_on_i;
-  // Per entry, a copy of its triangle's corners (reference frame; zero for other elements),
+  // Per entry, a copy of its triangle's corners (reference frame; zero for other elements;
+  // empty in scenes without triangles),
   // derived from `element` whenever the list is made or read (copy_triangle_corners): the
   // contact kernel rules out a triangle beyond the particle's bounding radius from the entry
   // alone, without a load from the triangle's row, which on a large mesh is a cache miss.
@@ -318,8 +319,14 @@ KOKKOS_INLINE_FUNCTION bool element_within_reach(const WallElements& el, int e, 
              .signed_distance < reach;
 }
 
+// Scenes without mesh walls (no edges) keep no copies: the kernel reads them only for
+// triangle entries.
 inline void copy_triangle_corners(WallContactList& list, const WallElements& el) {
-  list.triangle_corners = DeviceView<double* [9]>("wall_triangle_corners", list.entry_count);
+  const bool has_triangles = el.edge_owner.extent(0) > 0;
+  list.triangle_corners =
+      DeviceView<double* [9]>("wall_triangle_corners", has_triangles ? list.entry_count : 0);
+  if (!has_triangles)
+    return;
   auto corners = list.triangle_corners;
   auto element = list.element;
   Kokkos::parallel_for(
