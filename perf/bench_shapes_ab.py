@@ -11,7 +11,8 @@ program, and B's gain over A.
         --n 1e5 --rounds 3 --json perf/results/NAME.json
 
 The beds are settled once (the first program to need one) and cached in --cache-dir, so both
-programs start from the same bed.
+programs start from the same bed. One program with and without a setting: --a and --b the same,
+--extra-a or --extra-b its options (e.g. --extra-a=--pair-types).
 """
 
 import argparse
@@ -28,11 +29,12 @@ import stages as step_stages  # noqa: E402
 ROOT = Path(__file__).resolve().parent.parent
 
 
-def one_run(binary, shape, n, args):
+def one_run(binary, shape, n, args, extra):
     steps = max(20, int(round(bench_scaling.WORK[shape] / n)))
     record = run_bench.measured_run(
         lambda: run_bench.run_kdem(binary, n, steps, max(20, steps // 2), args.repeat,
-                                   args.threads, args.cache_dir, extra=["--shape", shape]), args)
+                                   args.threads, args.cache_dir,
+                                   extra=["--shape", shape, *extra]), args)
     stages = step_stages.kernel_stages({"kernels": record["kernels"]})
     record["stage_ns_per_particle_step"] = {
         s: 1e9 * t["seconds"] / (record["steps"] * record["n"]) for s, t in stages.items()}
@@ -62,6 +64,8 @@ def main():
     parser.add_argument("--b", required=True, help="kdem_bench_openmp program B")
     parser.add_argument("--label-a", default="a")
     parser.add_argument("--label-b", default="b")
+    parser.add_argument("--extra-a", default="", help="further options of program A, one string")
+    parser.add_argument("--extra-b", default="", help="further options of program B, one string")
     parser.add_argument("--shapes", nargs="+", default=list(bench_scaling.DEFAULT_SIZES))
     parser.add_argument("--n", type=float, default=1e5)
     parser.add_argument("--threads", type=int, default=2)
@@ -72,12 +76,13 @@ def main():
     run_bench.add_quiet_arguments(parser)
     args = parser.parse_args()
     programs = {args.label_a: Path(args.a).resolve(), args.label_b: Path(args.b).resolve()}
+    extras = {args.label_a: args.extra_a.split(), args.label_b: args.extra_b.split()}
     n = int(args.n)
     runs = []
     for shape in args.shapes:
         for round_index in range(args.rounds):
             for label, binary in programs.items():
-                record = one_run(binary, shape, n, args)
+                record = one_run(binary, shape, n, args, extras[label])
                 record.update({"label": label, "program": str(binary), "shape": shape,
                                "round": round_index})
                 runs.append(record)
@@ -87,6 +92,7 @@ def main():
               "threads": args.threads, "rounds": args.rounds, "repeat": args.repeat,
               "labels": [args.label_a, args.label_b], "programs": {k: str(v) for k, v in
                                                                   programs.items()},
+              "extra_options": extras,
               "summary": summary(runs, [args.label_a, args.label_b], args.shapes), "runs": runs}
     path = Path(args.json)
     path.parent.mkdir(parents=True, exist_ok=True)
