@@ -14,17 +14,6 @@ struct PairContact {
   int feature_a = 0, feature_b = 0;
 };
 
-// What the contact law reads of a body.
-struct BodyMotion {
-  Vec3 centre, velocity, angular_velocity;
-  double mass = 0;
-};
-
-KOKKOS_INLINE_FUNCTION BodyMotion body_motion(const ParticleViews& p, int i) {
-  return BodyMotion{load3(p.position, i), load3(p.velocity, i), load3(p.angular_velocity, i),
-                    p.mass(i)};
-}
-
 // Up to K contact points of one pair, in the narrow phase's order.
 template <int K> struct PairContacts {
   static_assert(K >= 1 && K <= 16, "a pair keeps a short list of contact points");
@@ -73,20 +62,22 @@ struct PairSlots {
   // The contact law at one contact point (normal from j towards i) with the history `history`,
   // which it advances; `torque` is the contact's torque on i about its centre.
   template <class Law>
-  KOKKOS_INLINE_FUNCTION ContactOutput law(const BodyMotion& bi, const BodyMotion& bj,
+  KOKKOS_INLINE_FUNCTION ContactOutput law(const ParticleViews& p, int i, int j,
                                            const ContactGeometry& geometry, double effective_radius,
                                            const PairCoefficients& coefficients, double dt,
                                            ContactHistory& history, Vec3& torque) const {
     ContactInput in;
     in.geometry = geometry;
+    const Vec3 xi = load3(p.position, i), xj = load3(p.position, j);
+    const Vec3 wi = load3(p.angular_velocity, i), wj = load3(p.angular_velocity, j);
     const Vec3 point = geometry.point;
-    in.relative_velocity = point_velocity(bi.velocity, bi.angular_velocity, bi.centre, point) -
-                           point_velocity(bj.velocity, bj.angular_velocity, bj.centre, point);
-    in.relative_angular_velocity = bi.angular_velocity - bj.angular_velocity;
+    in.relative_velocity = point_velocity(load3(p.velocity, i), wi, xi, point) -
+                           point_velocity(load3(p.velocity, j), wj, xj, point);
+    in.relative_angular_velocity = wi - wj;
     in.effective_radius = effective_radius;
-    in.effective_mass = bi.mass * bj.mass / (bi.mass + bj.mass);
+    in.effective_mass = p.mass(i) * p.mass(j) / (p.mass(i) + p.mass(j));
     const ContactOutput out = Law::force(coefficients, in, dt, history);
-    torque = cross(point - bi.centre, out.force_on_i) + out.rolling_torque_on_i;
+    torque = cross(point - xi, out.force_on_i) + out.rolling_torque_on_i;
     return out;
   }
 
@@ -106,30 +97,19 @@ struct PairSlots {
     overlap(s) = overlap_now;
   }
 
-  // The contact point of a pair with one slot, between bodies already loaded: stores the
-  // pair's force and torque on i, and returns them in `force` and `torque`.
-  template <class Law>
-  KOKKOS_INLINE_FUNCTION void apply(int k, const BodyMotion& bi, const BodyMotion& bj,
-                                    const ContactGeometry& geometry, double effective_radius,
-                                    const PairCoefficients& coefficients, double dt, Vec3& force,
-                                    Vec3& torque) const {
-    const int s = slots.first(k);
-    ContactHistory history = history_of<Law>(s);
-    const ContactOutput out =
-        law<Law>(bi, bj, geometry, effective_radius, coefficients, dt, history, torque);
-    keep_history<Law>(s, history, geometry.overlap);
-    force = out.force_on_i;
-    store3(force_on_i, k, force);
-    store3(torque_on_i, k, torque);
-  }
-
+  // The contact point of a pair with one slot.
   template <class Law>
   KOKKOS_INLINE_FUNCTION void apply(int k, const ParticleViews& p, int i, int j,
                                     const ContactGeometry& geometry, double effective_radius,
                                     const PairCoefficients& coefficients, double dt) const {
-    Vec3 force, torque;
-    apply<Law>(k, body_motion(p, i), body_motion(p, j), geometry, effective_radius, coefficients,
-               dt, force, torque);
+    const int s = slots.first(k);
+    ContactHistory history = history_of<Law>(s);
+    Vec3 torque;
+    const ContactOutput out =
+        law<Law>(p, i, j, geometry, effective_radius, coefficients, dt, history, torque);
+    keep_history<Law>(s, history, geometry.overlap);
+    store3(force_on_i, k, out.force_on_i);
+    store3(torque_on_i, k, torque);
   }
 
   // Several contact points of pair k, normals from j towards i; each takes the history of the
@@ -149,7 +129,6 @@ struct PairSlots {
           history = history_of<Law>(s);
         });
     const int count = found.count < kept ? found.count : kept;
-    const BodyMotion bi = body_motion(p, i), bj = body_motion(p, j);
     Vec3 force, torque;
     for (int c = 0; c < count; ++c) {
       const PairContact& contact = found.contact[c];
@@ -157,7 +136,7 @@ struct PairSlots {
       const int on_j = flipped ? contact.feature_a : contact.feature_b;
       ContactHistory history = previous.matching({on_i, on_j});
       Vec3 contact_torque;
-      const ContactOutput out = law<Law>(bi, bj, contact.geometry, contact.effective_radius,
+      const ContactOutput out = law<Law>(p, i, j, contact.geometry, contact.effective_radius,
                                          coefficients, dt, history, contact_torque);
       keep_history<Law>(first + c, history, contact.geometry.overlap);
       feature_i(first + c) = on_i;

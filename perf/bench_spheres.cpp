@@ -6,11 +6,7 @@
 //   kdem_bench_openmp --n N --steps M --repeat R [--warmup W] [--out FILE.json]
 //                     [--shape sphere|ellipsoid|cylinder|cube] [--cache-dir DIR]
 //                     [--write-data FILE.data] [--rebuild-every-step] [--unsorted]
-//                     [--mesh-walls TRIANGLES] [--pair-types] [--kokkos-threads=T]
-//
-// --pair-types runs a bed of spheres through the pair-type kernels and sum_forces, as a mixed
-// scene would, instead of the row-by-row sphere kernel (the same results), for measuring what
-// the latter gains.
+//                     [--mesh-walls TRIANGLES] [--kokkos-threads=T]
 //
 // --unsorted gives the engine the particles in a shuffled order and switches its sort by cell
 // off (scene key sort_by_cell), for measuring what the sort gains.
@@ -121,7 +117,6 @@ struct Options {
   std::string write_data;
   bool rebuild_every_step = false;
   bool unsorted = false;        // particles in a shuffled order, never sorted by cell
-  bool pair_types = false;      // spheres through the pair-type kernels (Engine::set_sphere_rows)
   long long mesh_triangles = 0; // > 0: the box as a mesh wall of about this many triangles
   BenchShape shape;
 };
@@ -143,7 +138,7 @@ const char* usage =
     "usage: kdem_bench_<backend> --n N --steps M --repeat R [--warmup W] [--out FILE.json]\n"
     "                            [--shape sphere|ellipsoid|cylinder|cube] [--cache-dir DIR]\n"
     "                            [--write-data FILE.data] [--rebuild-every-step] [--unsorted]\n"
-    "                            [--mesh-walls TRIANGLES] [--pair-types]\n"
+    "                            [--mesh-walls TRIANGLES]\n"
     "Kokkos options (e.g. --kokkos-threads=2) are passed to Kokkos.\n";
 
 Options parse(int argc, char** argv) {
@@ -179,8 +174,6 @@ Options parse(int argc, char** argv) {
       o.shape = bench_shape(value());
     else if (w == "--unsorted")
       o.unsorted = true;
-    else if (w == "--pair-types")
-      o.pair_types = true;
     else if (w == "--mesh-walls")
       o.mesh_triangles = std::stoll(value());
     else if (w == "-h" || w == "--help") {
@@ -556,7 +549,6 @@ int run(const Options& o) {
     std::shuffle(inits.begin(), inits.end(), std::mt19937_64(p.seed));
   engine.add_particles(inits);
   engine.set_rebuild_every_step(o.rebuild_every_step);
-  engine.set_sphere_rows(!o.pair_types);
 
   engine.advance(o.warmup);
   Kokkos::fence();
@@ -595,8 +587,7 @@ int run(const Options& o) {
        << ", \"threads\": " << kdem::Engine::backend_concurrency() << ", \"n\": " << n
        << ", \"steps\": " << o.steps << ", \"repeat\": " << o.repeat << ", \"warmup\": " << o.warmup
        << ", \"rebuild_every_step\": " << (o.rebuild_every_step ? "true" : "false")
-       << ", \"sorted_by_cell\": " << (o.unsorted ? "false" : "true")
-       << ", \"sphere_rows\": " << (o.pair_types ? "false" : "true") << ", \"walls\": \""
+       << ", \"sorted_by_cell\": " << (o.unsorted ? "false" : "true") << ", \"walls\": \""
        << (o.mesh_triangles > 0 ? "mesh" : "planes") << "\""
        << ", \"wall_triangles\": " << wall_triangles << ", \"median_s\": " << json_number(median_s)
        << ", \"times_s\": [";

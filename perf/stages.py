@@ -25,13 +25,11 @@ FUNCTION_STAGES = [
                               r"kdem::SuperquadricPairState|"
                               r"kdem::NarrowPhase<kdem::\w+, kdem::SuperquadricFamily>"),
     # the sphere pair kernel is inlined into the function that calls the pair kernels
-    # spheres alone: compute_sphere_rows, which also begins the sum (gravity, walls, own pairs)
-    ("sphere contacts", r"kdem::compute_sphere_rows|"
-                        r"kdem::compute_pair_type<kdem::SphereFamily, kdem::SphereFamily|"
+    ("sphere contacts", r"kdem::compute_pair_type<kdem::SphereFamily, kdem::SphereFamily|"
                         r"kdem::NarrowPhase<kdem::SphereFamily, kdem::SphereFamily>|"
                         r"kdem::Engine::State::compute_forces_of_families"),
     # gravity, wall and pair contributions summed per particle
-    ("gather", r"kdem::sum_(reverse_)?forces"),
+    ("gather", r"kdem::sum_forces"),
     ("outlets", r"kdem::Engine::State::remove_discharged_particles"),
     ("insertion", r"kdem::Engine::State::insert_due_particles"),
 ]
@@ -47,8 +45,8 @@ KERNEL_STAGES = [
     ("walls", r"^kdem::(\w+_wall_contacts|wall_poses)$"),
     ("superquadric box tests", r"^kdem::superquadric_pair_(prefilter|compact)$"),
     ("superquadric contacts", r"^kdem::(superquadric_pair_forces|sphere_superquadric_forces)$"),
-    ("sphere contacts", r"^kdem::(sphere_pair_forces|sphere_rows)$"),
-    ("gather", r"^kdem::sum_(reverse_)?forces$"),
+    ("sphere contacts", r"^kdem::sphere_pair_forces$"),
+    ("gather", r"^kdem::sum_forces$"),
     ("outlets", r"^kdem::outlets$"),
     ("output", r"^kdem::(energy|pair_contact_statistics|wall_contact_statistics)$"),
     ("allocation", r"^Kokkos::"),

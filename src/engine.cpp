@@ -533,11 +533,6 @@ template <class Law> void Engine::State::compute_forces_of_families() {
     using F = typename decltype(tag)::type;
     compute_family_wall_contacts<F, Law>(c, family_rows.of<F>());
   });
-  if (sphere_rows && present == 1 << family_index_v<SphereFamily, Families>) {
-    compute_sphere_rows<Law>(c, gravity);
-    sum_reverse_forces(particles, pairs);
-    return;
-  }
   for_each_pair_type<Families>([&](auto tag_a, auto tag_b) {
     using A = typename decltype(tag_a)::type;
     using B = typename decltype(tag_b)::type;
@@ -545,7 +540,6 @@ template <class Law> void Engine::State::compute_forces_of_families() {
     if ((present & both) == both)
       compute_pair_type<A, B, Law>(c, family_rows.of_pair<A, B>());
   });
-  sum_forces(particles, gravity, wall_contacts, pairs);
 }
 
 void Engine::State::compute_forces() {
@@ -553,6 +547,7 @@ void Engine::State::compute_forces() {
     compute_forces_of_families<HertzMindlin<true>>();
   else
     compute_forces_of_families<HertzMindlin<false>>();
+  sum_forces(particles, gravity, wall_contacts, pairs);
 }
 
 void Engine::State::compute_forces_at_current_state() {
@@ -655,10 +650,6 @@ double Engine::skin() const {
 }
 void Engine::set_rebuild_every_step(bool every_step) {
   state_->rebuild_every_step = every_step;
-}
-
-void Engine::set_sphere_rows(bool sphere_rows) {
-  state_->sphere_rows = sphere_rows;
 }
 
 std::string Engine::backend_name() {

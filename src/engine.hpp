@@ -119,9 +119,6 @@ public:
 
   // Test and benchmark knobs.
   void set_rebuild_every_step(bool every_step);
-  // Off: a scene of spheres alone takes the pair-type kernels and sum_forces, as mixed scenes do,
-  // instead of compute_sphere_rows (the same results bit for bit).
-  void set_sphere_rows(bool sphere_rows);
   double skin() const;
 
   void write_checkpoint(const std::string& path) const;

@@ -101,9 +101,6 @@ struct Engine::State {
 
   bool needs_rebuild = true;
   bool rebuild_every_step = false;
-  // Scenes of spheres alone take compute_sphere_rows (same results, fewer passes); off: the
-  // pair-type kernels and sum_forces, as any other scene (a test and benchmark knob).
-  bool sphere_rows = true;
   double last_build_time = 0;
   std::int64_t list_builds = 0;
   double discharged_mass = 0;
@@ -150,7 +147,6 @@ struct Engine::State {
   bool rigid_rotation() const;
   bool needs_narrow_phase_state() const;
   ContactContext contact_context() const;
-  // Sets force and torque: the wall and pair kernels of the present families, then the sum.
   template <class Law> void compute_forces_of_families();
   void compute_forces();
   void compute_forces_at_current_state();

@@ -21,10 +21,6 @@ template <class A, class B, class Law>
 void compute_pair_type(const ContactContext& c, PairTypeRows& rows);
 template <class F, class Law>
 void compute_family_wall_contacts(const ContactContext& c, const RowSet& rows);
-// Scenes of spheres alone: the sphere pairs row by row, each particle's own state loaded once,
-// beginning its force sum (gravity, walls, its own pairs: force_sum.hpp) in force and torque;
-// sum_reverse_forces ends it. Bit for bit compute_pair_type<sphere, sphere> and sum_forces.
-template <class Law> void compute_sphere_rows(const ContactContext& c, Vec3 gravity);
 
 // Bit f set: some particle is of family f.
 inline int present_families(const ParticleViews& p, const ShapeFamilies& shapes) {

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
-#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -129,27 +128,19 @@ inline SceneConfig cli_scene(const std::string& name) {
 // pair contacts and the smallest (bounding) radius.
 struct RunOutcome {
   std::map<std::int64_t, Vec3> position;
-  std::map<std::int64_t, Vec3> angular_velocity;
   NarrowPhaseTotals totals;
   int contacts = 0;
   double smallest_radius = 0;
 };
 
-// `setup` may set the engine's test knobs before the first step.
-inline RunOutcome run_steps(const SceneConfig& scene, int steps,
-                            const std::function<void(Engine&)>& setup = {}) {
+inline RunOutcome run_steps(const SceneConfig& scene, int steps) {
   Engine engine(scene);
-  if (setup)
-    setup(engine);
   for (int k = 0; k < steps; ++k)
     engine.step();
   RunOutcome outcome;
   const ParticleSnapshot s = engine.snapshot();
-  for (std::size_t i = 0; i < s.id.size(); ++i) {
+  for (std::size_t i = 0; i < s.id.size(); ++i)
     outcome.position[s.id[i]] = {s.position[3 * i], s.position[3 * i + 1], s.position[3 * i + 2]};
-    outcome.angular_velocity[s.id[i]] = {s.angular_velocity[3 * i], s.angular_velocity[3 * i + 1],
-                                         s.angular_velocity[3 * i + 2]};
-  }
   outcome.totals = engine.narrow_phase_totals();
   outcome.contacts = engine.diagnostics().pair_contacts;
   if (!s.radius.empty())

@@ -79,43 +79,6 @@ TEST(PipelineLayout, SortByCellChangesOnlyRounding) {
   }
 }
 
-// Spheres alone take the row-by-row kernel (compute_sphere_rows), which begins each particle's
-// force sum itself; the sums keep their terms and order, so whole runs agree bit for bit with
-// the pair-type kernels and sum_forces, with rolling resistance and without. The kernel labels
-// show that each run took the path it was meant to.
-TEST(PipelineLayout, SphereRowsAgreeBitForBitWithThePairTypeKernels) {
-  for (const std::string name : {"small_hopper", "drum"})
-    for (const bool rolling : {true, false}) {
-      SceneConfig scene = cli_scene(name);
-      if (!rolling)
-        for (MaterialConfig& m : scene.materials)
-          m.rolling_friction = 0;
-      const std::string what = name + (rolling ? " with" : " without") + " rolling resistance";
-      // the drum's spheres start with one velocity: its pairs touch once the wall has stirred them
-      const int steps = name == "drum" ? 6000 : 1000;
-      const auto run_with = [&](bool sphere_rows) {
-        KernelTimer timer(false);
-        const RunOutcome outcome = run_steps(scene, steps, [&](Engine& engine) {
-          engine.set_sphere_rows(sphere_rows);
-          timer.reset(); // the constructor's first force evaluation took the default path
-        });
-        const auto launches = [&](const std::string& label) {
-          const auto found = timer.tallies().find(label);
-          return found == timer.tallies().end() ? std::int64_t(0) : found->second.launches;
-        };
-        EXPECT_EQ(launches("kdem::sphere_rows"), sphere_rows ? steps : 0) << what;
-        EXPECT_EQ(launches("kdem::sphere_pair_forces"), sphere_rows ? 0 : steps) << what;
-        return outcome;
-      };
-      const RunOutcome rows = run_with(true), pair_types = run_with(false);
-      ASSERT_GT(rows.contacts, 0) << what << ": no contacts, nothing was tested";
-      expect_identical(rows, pair_types, what);
-      for (const auto& [id, w] : rows.angular_velocity)
-        EXPECT_EQ(0, std::memcmp(&w, &pair_types.angular_velocity.at(id), sizeof(Vec3)))
-            << what << ": angular velocities differ (particle " << id << ")";
-    }
-}
-
 struct PairStorage {
   std::int64_t pair_rolling_bytes = 0, wall_rolling_bytes = 0; // live after the steps
   int pair_candidates = 0, wall_candidates = 0;
