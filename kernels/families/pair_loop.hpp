@@ -77,22 +77,23 @@ struct EveryRowOfTheType {
   }
 };
 
-// One row of a pair type: its narrow phase, then the contact law on what it found. Forced
-// inline into the kernels that call it: left to the compiler, the body of the sphere pair kernel
-// was an out-of-line call per pair (its prologue and epilogue ~7 % of the kernel's instructions).
-template <class A, class B, class Law> struct PairTypeBody {
+template <class A, class B, class Law>
+void compute_pair_type(const ContactContext& c, PairTypeRows& type_rows) {
   using Narrow = NarrowPhase<A, B>;
-  static constexpr int K = Narrow::max_contacts;
-  Narrow narrow;
-  PairsToEvaluate todo;
-  PairSlots slots;
-  ParticleViews p;
-  IndexView pair_i, pair_j;
-  ShapeFamilies shapes;
-  CoefficientTable table;
-  double dt;
-
-  KOKKOS_FORCEINLINE_FUNCTION void operator()(int s, NarrowPhaseTally& tally) const {
+  static_assert(Narrow::max_contacts == pair_contact_points<A, B>,
+                "a narrow phase finds at most the contact points its pair type has slots for");
+  const Narrow narrow(c);
+  const PairsToEvaluate todo = narrow.select(c, type_rows);
+  if (todo.rows.count == 0)
+    return;
+  const PairSlots slots(c.pairs);
+  const ParticleViews p = c.particles;
+  auto pair_i = c.pairs.pair_i, pair_j = c.pairs.pair_j;
+  const ShapeFamilies shapes = c.shape_families;
+  const CoefficientTable table = c.coefficients;
+  const double dt = c.dt;
+  constexpr int K = Narrow::max_contacts;
+  const auto body = KOKKOS_LAMBDA(int s, NarrowPhaseTally& tally) {
     if (todo.skipped(s))
       return;
     const int k = todo.rows(s), i = pair_i(k), j = pair_j(k);
@@ -110,30 +111,16 @@ template <class A, class B, class Law> struct PairTypeBody {
       for (int c = 0; c < found.count; ++c)
         found.contact[c].geometry.normal = -found.contact[c].geometry.normal;
     store_contacts<Law>(slots, k, p, i, j, found, flipped, table(p.material(i), p.material(j)), dt);
-  }
-};
-
-template <class A, class B, class Law>
-void compute_pair_type(const ContactContext& c, PairTypeRows& type_rows) {
-  using Narrow = NarrowPhase<A, B>;
-  static_assert(Narrow::max_contacts == pair_contact_points<A, B>,
-                "a narrow phase finds at most the contact points its pair type has slots for");
-  const Narrow narrow(c);
-  const PairsToEvaluate todo = narrow.select(c, type_rows);
-  if (todo.rows.count == 0)
-    return;
-  const PairTypeBody<A, B, Law> body{narrow,           todo,           PairSlots(c.pairs),
-                                     c.particles,      c.pairs.pair_i, c.pairs.pair_j,
-                                     c.shape_families, c.coefficients, c.dt};
+  };
+  const auto untallied = KOKKOS_LAMBDA(int s) {
+    NarrowPhaseTally unused;
+    body(s, unused);
+  };
   if constexpr (Narrow::tallied) {
     reduce_over_items<NarrowPhaseTally>(Narrow::label, todo.rows.count, narrow.team_size, body,
                                         c.counters.reducer());
     c.counters.add_kernel_tally();
   } else {
-    const auto untallied = KOKKOS_LAMBDA(int s) {
-      NarrowPhaseTally unused;
-      body(s, unused);
-    };
     Kokkos::parallel_for(Narrow::label, RangePolicy(0, todo.rows.count), untallied);
   }
 }
