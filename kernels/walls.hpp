@@ -769,10 +769,10 @@ void compute_wall_contacts(const std::string& label, const ParticleViews& p, con
           const int e = element(k);
           const WallPose wall = pose(el.wall(e));
           WallContacts<K> found;
-          const bool out_of_reach =
-              el.kind(e) == triangle_element &&
-              triangle_out_of_reach(corners, k, wall.to_reference(load3(position, i)), radius(i));
-          if (wall.active != 0 && !out_of_reach)
+          if (wall.active != 0 &&
+              !(el.kind(e) == triangle_element &&
+                triangle_out_of_reach(corners, k, wall.to_reference(load3(position, i)),
+                                      radius(i))))
             find_wall_contacts(contact_of, i, e, wall, found);
           WallHandover<K>::apply(el, slots, element, row_start(i + 1), contact_of, i, k, wall,
                                  found.count > 0, released);
