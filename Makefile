@@ -116,10 +116,12 @@ memcheck-build: deps
 cuda: deps-cuda
 	@$(DEPS) --find-nvcc >/dev/null || { echo "make cuda: nvcc not found" >&2; exit 1; }
 	$(call configure_build,cuda,cuda-sm90)
+	@scripts/check_cuda_lambdas.sh build/cuda
 
 cuda-sm80: deps-cuda
 	@$(DEPS) --find-nvcc >/dev/null || { echo "make cuda-sm80: nvcc not found" >&2; exit 1; }
 	$(call configure_build,cuda-sm80,cuda-sm80)
+	@scripts/check_cuda_lambdas.sh build/cuda-sm80
 
 # --- run ----------------------------------------------------------------------
 test: build

@@ -143,6 +143,16 @@ template <class Rotation = IsotropicRotation> void kick(const ParticleViews& p, 
       });
 }
 
+// Instantiated once, in kernels/integrate.cpp. nvcc gives each translation unit its own hidden
+// helper for an extended lambda; were a test and the engine each to instantiate these
+// templates, the linker would keep one copy, which may call the other unit's helper before it
+// is set (a call through a null pointer, seen on CUDA). scripts/check_cuda_lambdas.sh guards
+// against a lambda-holding template compiled in two units.
+extern template void kick_and_drift<IsotropicRotation>(const ParticleViews&, double);
+extern template void kick_and_drift<RigidBodyRotation>(const ParticleViews&, double);
+extern template void kick<IsotropicRotation>(const ParticleViews&, double);
+extern template void kick<RigidBodyRotation>(const ParticleViews&, double);
+
 inline void kick_and_drift_rigid(const ParticleViews& p, double dt) {
   kick_and_drift<RigidBodyRotation>(p, dt);
 }

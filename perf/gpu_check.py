@@ -5,6 +5,11 @@ and write one JSON and one Markdown report naming the GPU. With --preset openmp 
 on the CPU (no CUDA column); CI runs it so, so that the script cannot rot.
 
   perf/gpu_check.py --preset auto|cuda|cuda-sm80|openmp --out out/gpu-check [--quick]
+                    [--prebuilt] [--test-shards N] [--shape-particles N]
+
+Stages, the report written after each: backend agreement, shape costs (settled beds of the four
+shapes at --shape-particles, cost per particle-step over the sphere's), the benchmark scenes,
+the test suites (the CUDA suite in --test-shards shards at once).
 
 Backend agreement: each scene of tests/cli runs --warm-steps from its start (OpenMP), and
 from that checkpoint every backend runs --steps more. Serial and OpenMP must be bit-identical.
@@ -35,6 +40,7 @@ import stages as step_stages  # noqa: E402
 AGREEMENT_SCENES = ["small_hopper", "small_superquadrics", "drum"]
 TOLERANCE_RADII = 1e-4
 BENCH_SCENES = ["spheres", "ellipsoids", "cylinders", "cubes"]  # perf/callgrind/*.yaml
+SHAPES = ["sphere", "ellipsoid", "cylinder", "cube"]  # perf/bench_spheres.cpp --shape
 
 
 class Report:
@@ -96,26 +102,50 @@ def choose_preset(requested, gpu):
              "builds of scripts/deps.sh (8.0 and 9.0)")
 
 
-def run_test_suites(report, preset, out, quick):
-    binaries = []
+def run_test_suites(report, preset, out, quick, shards):
+    """Each suite in `shards` GoogleTest shards run at once (processes sharing the device), so
+    that a suite of many short launches is not bound by one process's launch latency."""
     if preset == "openmp":
         binaries = [("openmp", ROOT / "build/openmp/bin/kdem_tests_openmp", ["--kokkos-threads=2"]),
                     ("serial", ROOT / "build/openmp/bin/kdem_tests_serial", [])]
+        shards = 1
     else:
         binaries = [("cuda", ROOT / f"build/{preset}/bin/kdem_tests_cuda", [])]
     for backend, binary, extra in binaries:
-        result_file = out / f"tests_{backend}.json"
-        args = [binary, f"--gtest_output=json:{result_file}", *extra]
-        if quick:
-            args.append("--gtest_filter=MemorySpaces.*:SuperquadricContact.*:ContactHistory.*")
-        result = run(args, check=False, log=out / f"tests_{backend}.log")
-        summary = {}
-        if result_file.exists():
+        started = time.time()
+        processes = []
+        for shard in range(shards):
+            result_file = out / f"tests_{backend}_{shard}.json"
+            result_file.unlink(missing_ok=True)
+            args = [str(binary), f"--gtest_output=json:{result_file}", *extra]
+            if quick:
+                args.append("--gtest_filter=MemorySpaces.*:SuperquadricContact.*:ContactHistory.*")
+            log = open(out / f"tests_{backend}_{shard}.log", "w")
+            env = {**os.environ, "GTEST_TOTAL_SHARDS": str(shards), "GTEST_SHARD_INDEX": str(shard)}
+            print("$ " + " ".join(args) + f"  (shard {shard + 1} of {shards})", flush=True)
+            processes.append((subprocess.Popen(args, stdout=log, stderr=subprocess.STDOUT, env=env),
+                              result_file, log))
+        summary = {"tests": 0, "failures": 0, "disabled": 0, "failed_tests": [], "shards": shards}
+        passed = True
+        for process, result_file, log in processes:
+            passed = process.wait() == 0 and passed
+            log.close()
+            if not result_file.exists():
+                passed = False
+                summary["failed_tests"].append(f"(shard wrote no results: {result_file.name})")
+                continue
             doc = json.loads(result_file.read_text())
-            summary = {"tests": doc.get("tests"), "failures": doc.get("failures"),
-                       "disabled": doc.get("disabled"), "seconds": doc.get("time")}
-        report.check(f"test suite ({backend})", result.returncode == 0,
-                     f"{summary.get('tests')} tests, {summary.get('failures')} failures")
+            for key in ("tests", "failures", "disabled"):
+                summary[key] += doc.get(key, 0)
+            summary["failed_tests"] += [f"{suite['name']}.{test['name']}"
+                                        for suite in doc.get("testsuites", [])
+                                        for test in suite.get("testsuite", [])
+                                        if test.get("failures")]
+        summary["wall_seconds"] = round(time.time() - started, 1)
+        failed = ", ".join(summary["failed_tests"][:10])
+        report.check(f"test suite ({backend})", passed,
+                     f"{summary['tests']} tests, {summary['failures']} failures"
+                     + (f": {failed}" if failed else "") + f" ({summary['wall_seconds']} s)")
         report.data.setdefault("tests", {})[backend] = summary
 
 
@@ -220,6 +250,35 @@ def benchmarks(report, preset, out, quick):
     report.data["benchmarks"] = rows
 
 
+def shape_costs(report, preset, out, n, quick):
+    """Settled beds of perf/bench_spheres.cpp (the beds of perf/bench_scaling.py), one per shape,
+    at n particles: cost per particle-step of each shape over the sphere's, measured side by
+    side in this run (the book's GPU ratios are 1.6 to 2.7)."""
+    if preset == "openmp":
+        binary, threads = ROOT / "build/openmp/bin/kdem_bench_openmp", 2
+    else:
+        binary, threads = ROOT / f"build/{preset}/bin/kdem_bench_cuda", 1
+    steps, repeat = (20, 1) if quick else (200, 3)
+    rows = []
+    for shape in SHAPES:
+        record = run_bench.run_kdem(binary, n, steps, steps // 2, repeat, threads,
+                                    ROOT / "perf/cache", extra=["--shape", shape])
+        rows.append({"shape": shape, "particles": record["n"], "steps": steps, "repeat": repeat,
+                     "particle_steps_per_second": record["particle_steps_per_s"],
+                     "stage_seconds_per_step": {
+                         s: t["seconds"] / steps
+                         for s, t in step_stages.kernel_stages(
+                             {"kernels": record["kernels"]}).items()}})
+    sphere_rate = rows[0]["particle_steps_per_second"]
+    for row in rows:
+        row["cost_over_sphere"] = sphere_rate / row["particle_steps_per_second"]
+        report.check(f"shape cost {row['shape']} ({row['particles']} particles)", True,
+                     f"{row['particle_steps_per_second']:.3g} particle-steps/s, "
+                     f"{row['cost_over_sphere']:.2f} x the sphere's cost")
+    report.data["shape_costs"] = rows
+    (out / "shape_costs.json").write_text(json.dumps(rows, indent=2) + "\n")
+
+
 def markdown(data):
     lines = ["# kdem gpu-check", ""]
     device = data.get("device", {})
@@ -244,6 +303,13 @@ def markdown(data):
                          f"{'bitwise' if r['serial_equals_openmp'] else '**differ**'} | "
                          f"{r['one_ulp_growth_radii']:.3g} | "
                          f"{'-' if cuda is None else format(cuda, '.3g')} |")
+    if data.get("shape_costs"):
+        lines += ["", "Settled beds (perf/bench_spheres.cpp), cost per particle-step over the "
+                  "sphere's:", "", "| shape | particles | particle-steps/s | cost / sphere |",
+                  "|---|---|---|---|"]
+        for r in data["shape_costs"]:
+            lines.append(f"| {r['shape']} | {r['particles']} | "
+                         f"{r['particle_steps_per_second']:.3g} | {r['cost_over_sphere']:.2f} |")
     if data.get("benchmarks"):
         lines += ["", "| scene | particles | particle-steps/s | bytes/particle |",
                   "|---|---|---|---|"]
@@ -259,6 +325,12 @@ def main():
     parser.add_argument("--out", default="out/gpu-check")
     parser.add_argument("--warm-steps", type=int, default=3000)
     parser.add_argument("--steps", type=int, default=1000)
+    parser.add_argument("--shape-particles", type=int, default=100000,
+                        help="particles in each settled bed of the shape-cost comparison")
+    parser.add_argument("--test-shards", type=int, default=4,
+                        help="GoogleTest shards of the CUDA suite run at once")
+    parser.add_argument("--prebuilt", action="store_true",
+                        help="use the binaries already in build/ (built elsewhere for this GPU)")
     parser.add_argument("--quick", action="store_true",
                         help="a subset of the tests and short benchmarks (CI rehearsal)")
     args = parser.parse_args()
@@ -273,11 +345,17 @@ def main():
                         "device": {"gpu": gpu, "cpu": run_bench.machine_info()["cpu_model"],
                                    "cores": os.cpu_count()}})
     try:
-        if preset != "openmp":
+        if preset != "openmp" and not args.prebuilt:
             run(["make", "-C", ROOT, preset], log=out / "build.log")
-        run_test_suites(report, preset, out, args.quick)
-        backend_agreement(report, preset, out, args.warm_steps, args.steps)
-        benchmarks(report, preset, out, args.quick)
+        stages = [
+            lambda: backend_agreement(report, preset, out, args.warm_steps, args.steps),
+            lambda: shape_costs(report, preset, out,
+                                2000 if args.quick else args.shape_particles, args.quick),
+            lambda: benchmarks(report, preset, out, args.quick),
+            lambda: run_test_suites(report, preset, out, args.quick, args.test_shards)]
+        for stage in stages:  # the report is written after each, so a stopped run keeps it
+            stage()
+            report.write()
     except RuntimeError as error:
         report.check("gpu-check ran to the end", False, str(error).splitlines()[0])
         print(error, file=sys.stderr)

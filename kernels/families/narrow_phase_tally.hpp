@@ -62,12 +62,9 @@ struct NarrowPhaseCounters {
   Kokkos::Sum<NarrowPhaseTally, MemSpace> reducer() const {
     return Kokkos::Sum<NarrowPhaseTally, MemSpace>(kernel_tally);
   }
-  void add_kernel_tally() const {
-    auto sum = totals;
-    auto part = kernel_tally;
-    Kokkos::parallel_for(
-        "kdem::narrow_phase_tally", RangePolicy(0, 1), KOKKOS_LAMBDA(int) { sum() += part(); });
-  }
+  // Defined in narrow_phase_tally.cpp: a lambda-holding function compiled in one unit only
+  // (kernels/integrate.hpp says why).
+  void add_kernel_tally() const;
 };
 
 } // namespace kdem
