@@ -250,6 +250,17 @@ def benchmarks(report, preset, out, quick):
     report.data["benchmarks"] = rows
 
 
+def tile_cache(quick):
+    """Where the benchmark keeps its settled tiles (a superquadric tile takes about a minute to
+    settle on 2 CPU cores): perf/cache, or for the CI rehearsal (--quick, from a clean clone)
+    beside the Kokkos builds outside the clone, so that it settles them once."""
+    if not quick:
+        return ROOT / "perf/cache"
+    cache = Path(os.environ.get("KDEM_CACHE", Path.home() / ".cache/kdem")) / "bench-tiles"
+    cache.mkdir(parents=True, exist_ok=True)
+    return cache
+
+
 def shape_costs(report, preset, out, n, quick):
     """Settled beds of perf/bench_spheres.cpp (the beds of perf/bench_scaling.py), one per shape,
     at n particles: cost per particle-step of each shape over the sphere's, measured side by
@@ -262,7 +273,7 @@ def shape_costs(report, preset, out, n, quick):
     rows = []
     for shape in SHAPES:
         record = run_bench.run_kdem(binary, n, steps, steps // 2, repeat, threads,
-                                    ROOT / "perf/cache", extra=["--shape", shape])
+                                    tile_cache(quick), extra=["--shape", shape])
         rows.append({"shape": shape, "particles": record["n"], "steps": steps, "repeat": repeat,
                      "particle_steps_per_second": record["particle_steps_per_s"],
                      "stage_seconds_per_step": {
