@@ -143,7 +143,7 @@ template <class Rotation = IsotropicRotation> void kick(const ParticleViews& p, 
       });
 }
 
-// Instantiated once, in kernels/integrate.cpp. nvcc gives each translation unit its own hidden
+// Instantiated once, in src/engine.cpp. nvcc gives each translation unit its own hidden
 // helper for an extended lambda; were a test and the engine each to instantiate these
 // templates, the linker would keep one copy, which may call the other unit's helper before it
 // is set (a call through a null pointer, seen on CUDA). scripts/check_cuda_lambdas.sh guards

@@ -2,6 +2,8 @@
 // Walls: analytic planes and cylinders and triangle meshes, each moving rigidly. Each wall is
 // stored once in its reference frame; a particle centre is taken into that frame, queried, and
 // the contact is taken back to the world frame.
+#include <type_traits>
+
 #include "../shapes/wall_geometry.hpp"
 #include "binning.hpp"
 #include "contact_law.hpp"
@@ -148,6 +150,20 @@ KOKKOS_INLINE_FUNCTION bool face_claims(const WallElements& el, int e, Vec3 p) {
   return true;
 }
 
+// By how much p is inside the band face_claims tests (positive where, and only where, the face
+// claims p: a difference of two doubles has the sign of their exact difference). Each term is
+// 1-Lipschitz in p (unit directions), so the face claims every point nearer to p than that.
+KOKKOS_INLINE_FUNCTION double face_claim_margin(const WallElements& el, int e, Vec3 p) {
+  double margin = 0;
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 start = geometry_vec(el.geometry, e, 9 + 6 * k);
+    const Vec3 outward = geometry_vec(el.geometry, e, 12 + 6 * k);
+    const double inside = -el.feature_tolerance - dot(p - start, outward);
+    margin = k == 0 || inside < margin ? inside : margin;
+  }
+  return margin;
+}
+
 // p projects onto no adjacent face, and along the edge further than the tolerance from its ends.
 KOKKOS_INLINE_FUNCTION bool edge_claims(const WallElements& el, int edge, Vec3 p) {
   const double tol = el.feature_tolerance;
@@ -190,14 +206,18 @@ struct TrianglePlane {
   double height = 0;
 };
 
-KOKKOS_INLINE_FUNCTION TrianglePlane triangle_plane(const WallElements& el, int e, Vec3 p) {
+KOKKOS_INLINE_FUNCTION TrianglePlane triangle_plane(Vec3 a, Vec3 b, Vec3 c, Vec3 p) {
   TrianglePlane t;
-  t.a = geometry_vec(el.geometry, e, 0), t.b = geometry_vec(el.geometry, e, 3),
-  t.c = geometry_vec(el.geometry, e, 6);
+  t.a = a, t.b = b, t.c = c;
   const Vec3 normal_raw = cross(t.b - t.a, t.c - t.a);
   t.normal = (1.0 / norm(normal_raw)) * normal_raw;
   t.height = dot(p - t.a, t.normal);
   return t;
+}
+
+KOKKOS_INLINE_FUNCTION TrianglePlane triangle_plane(const WallElements& el, int e, Vec3 p) {
+  return triangle_plane(geometry_vec(el.geometry, e, 0), geometry_vec(el.geometry, e, 3),
+                        geometry_vec(el.geometry, e, 6), p);
 }
 
 // The feature of triangle e that claims p, if e reports it and it lies within `reach` of p:
@@ -284,6 +304,11 @@ struct WallContactList {
   // contact kernel rules out a triangle beyond the particle's bounding radius from the entry
   // alone, without a load from the triangle's row, which on a large mesh is a cache miss.
   DeviceView<double* [9]> triangle_corners;
+  // Per triangle entry, a certificate that its face claims a sphere's centre: a reference-frame
+  // point where the face claimed it and the margin by which it did (columns 0-2, 3; margin 0:
+  // none yet). Every point within half the margin is claimed too (see
+  // certified_triangle_feature). Made by the contact kernel, zero in a new or read list.
+  DeviceView<double* [4]> face_certificate;
 
   ContactSlots slots() const { return ContactSlots{contact_start}; }
   bool one_slot_per_entry() const { return contact_start.extent(0) == 0; }
@@ -325,6 +350,8 @@ inline void copy_triangle_corners(WallContactList& list, const WallElements& el)
   const bool has_triangles = el.edge_owner.extent(0) > 0;
   list.triangle_corners =
       DeviceView<double* [9]>("wall_triangle_corners", has_triangles ? list.entry_count : 0);
+  list.face_certificate =
+      DeviceView<double* [4]>("wall_face_certificate", has_triangles ? list.entry_count : 0);
   if (!has_triangles)
     return;
   auto corners = list.triangle_corners;
@@ -347,6 +374,52 @@ KOKKOS_INLINE_FUNCTION bool triangle_out_of_reach(const DeviceView<double* [9]>&
   const Vec3 b{corners(k, 3), corners(k, 4), corners(k, 5)};
   const Vec3 c{corners(k, 6), corners(k, 7), corners(k, 8)};
   return !(triangle_query(a, b, c, p).signed_distance < r * (1 + 1e-9));
+}
+
+// The copies a triangle entry k keeps (see WallContactList::triangle_corners and
+// face_certificate).
+struct TriangleEntry {
+  DeviceView<double* [9]> corners;
+  DeviceView<double* [4]> certificate;
+  int k = 0;
+};
+
+// claimed_triangle_feature of entry k's triangle e, for a sphere of radius `reach` whose
+// triangle distance the caller found below the reach (triangle_out_of_reach). Where the entry's
+// certificate holds (p within half its margin of its point, the margin far above rounding:
+// face_claim_margin), the face claims p, and its query is made from the corner copy alone, by
+// the same operations on the same numbers as claimed_triangle_feature's: the same contact
+// without a load from the triangle's row. Otherwise the full test, and a face claim leaves a
+// new certificate. A certificate stays true as long as the mesh is the same: it speaks of the
+// triangle's face in its wall's frame, not of a time.
+KOKKOS_INLINE_FUNCTION SurfaceQuery certified_triangle_feature(const WallElements& el,
+                                                               const TriangleEntry& entry, int e,
+                                                               Vec3 p, double reach,
+                                                               bool& applies) {
+  const int k = entry.k;
+  const double margin = entry.certificate(k, 3);
+  const Vec3 claimed_at{entry.certificate(k, 0), entry.certificate(k, 1), entry.certificate(k, 2)};
+  if (margin > 0 && norm2(p - claimed_at) < 0.25 * margin * margin) {
+    const TrianglePlane t =
+        triangle_plane(Vec3{entry.corners(k, 0), entry.corners(k, 1), entry.corners(k, 2)},
+                       Vec3{entry.corners(k, 3), entry.corners(k, 4), entry.corners(k, 5)},
+                       Vec3{entry.corners(k, 6), entry.corners(k, 7), entry.corners(k, 8)}, p);
+    // Claimed by the face, p's distance to the triangle is its height (up to rounding, which
+    // decides nothing here: beyond the radius no contact touches).
+    applies = math::fabs(t.height) < reach * (1 + 1e-9);
+    if (!applies)
+      return SurfaceQuery{};
+    return point_feature_query(p - t.height * t.normal, p, t.height >= 0 ? t.normal : -t.normal, 0);
+  }
+  const SurfaceQuery q = claimed_triangle_feature(el, e, p, reach, applies);
+  if (applies && q.feature == 0) {
+    const double new_margin = face_claim_margin(el, e, p);
+    if (new_margin > 1e-6 * reach) { // rounding of the tests is below 1e-12 of a metre-sized mesh
+      entry.certificate(k, 0) = p.x, entry.certificate(k, 1) = p.y, entry.certificate(k, 2) = p.z;
+      entry.certificate(k, 3) = new_margin;
+    }
+  }
+  return q;
 }
 
 // The per-entry results and derived copies of a list whose entries are set.
@@ -608,12 +681,24 @@ struct WallSlots {
   }
 };
 
-// The contacts of particle i with element e of a wall at `wall`: a functor of one contact point
-// gives it (or none), one of several fills `found` itself.
+// Whether a family's wall-contact functor takes the triangle entry (SphereWallContact).
+template <class T, class = void> struct certifies_faces : std::false_type {};
+template <class T>
+struct certifies_faces<T, std::void_t<decltype(T::certifies_faces)>>
+    : std::integral_constant<bool, T::certifies_faces> {};
+
+// The contacts of particle i with element e (of list entry `entry`) of a wall at `wall`: a
+// functor of one contact point gives it (or none), one of several fills `found` itself. (Here,
+// not in the kernel's lambda: nvcc does not let an extended lambda capture in a constexpr-if.)
 template <class ContactOf, int K>
 KOKKOS_INLINE_FUNCTION void find_wall_contacts(const ContactOf& contact_of, int i, int e,
-                                               const WallPose& wall, WallContacts<K>& found) {
-  if constexpr (K == 1) {
+                                               const WallPose& wall, const TriangleEntry& entry,
+                                               WallContacts<K>& found) {
+  if constexpr (certifies_faces<ContactOf>::value) {
+    static_assert(K == 1, "a certified face gives one contact point");
+    found.contact[0] = contact_of(i, e, wall, entry);
+    found.count = found.contact[0].geometry.touching ? 1 : 0;
+  } else if constexpr (K == 1) {
     found.contact[0] = contact_of(i, e, wall);
     found.count = found.contact[0].geometry.touching ? 1 : 0;
   } else {
@@ -758,6 +843,7 @@ void compute_wall_contacts(const std::string& label, const ParticleViews& p, con
   auto row_start = list.row_start;
   auto element = list.element;
   auto corners = list.triangle_corners;
+  auto certificate = list.face_certificate;
   auto position = p.position;
   auto radius = p.radius;
   const WallSlots slots(list);
@@ -773,7 +859,8 @@ void compute_wall_contacts(const std::string& label, const ParticleViews& p, con
               !(el.kind(e) == triangle_element &&
                 triangle_out_of_reach(corners, k, wall.to_reference(load3(position, i)),
                                       radius(i))))
-            find_wall_contacts(contact_of, i, e, wall, found);
+            find_wall_contacts(contact_of, i, e, wall, TriangleEntry{corners, certificate, k},
+                               found);
           WallHandover<K>::apply(el, slots, element, row_start(i + 1), contact_of, i, k, wall,
                                  found.count > 0, released);
           store_wall_contacts<Law>(slots, k, p, i, wall, found, table, dt);
@@ -788,11 +875,30 @@ struct SphereWallContact {
   Vec3View position;
   ScalarView radius;
 
+  static constexpr bool certifies_faces = true; // the kernel passes its triangle entries
+
   KOKKOS_INLINE_FUNCTION WallContactGeometry operator()(int i, int e, const WallPose& wall) const {
-    WallContactGeometry contact;
     const Vec3 centre = wall.to_reference(load3(position, i));
     bool applies = true;
     const SurfaceQuery q = query_element(el, e, centre, radius(i), applies);
+    return contact_from(i, wall, centre, q, applies);
+  }
+
+  // The same contact, through the certificate of entry k where e is a triangle.
+  KOKKOS_INLINE_FUNCTION WallContactGeometry operator()(int i, int e, const WallPose& wall,
+                                                        const TriangleEntry& entry) const {
+    if (el.kind(e) != triangle_element || entry.certificate.extent(0) == 0)
+      return (*this)(i, e, wall);
+    const Vec3 centre = wall.to_reference(load3(position, i));
+    bool applies = true;
+    const SurfaceQuery q = certified_triangle_feature(el, entry, e, centre, radius(i), applies);
+    return contact_from(i, wall, centre, q, applies);
+  }
+
+  KOKKOS_INLINE_FUNCTION WallContactGeometry contact_from(int i, const WallPose& wall, Vec3 centre,
+                                                          const SurfaceQuery& q,
+                                                          bool applies) const {
+    WallContactGeometry contact;
     if (!applies)
       return contact;
     const ContactGeometry local =

@@ -8,13 +8,22 @@
 set -euo pipefail
 build=${1:?usage: check_cuda_lambdas.sh BUILD_DIR}
 listing=$(mktemp)
-trap 'rm -f "$listing"' EXIT
+objects_file=$(mktemp)
+trap 'rm -f "$listing" "$objects_file"' EXIT
+# The objects that the build's libraries and programs are made of (CMake's link.txt of each
+# target, paths relative to its directory), not every object file lying in the build folder: one
+# left from a source since removed is part of nothing.
+while IFS= read -r link; do
+  base=${link%%/CMakeFiles/*}
+  grep -o '[^ ]*\.o\b' "$link" | sed "s|^|$base/|" >>"$objects_file" || true
+done < <(find "$build" -name link.txt)
+sort -u -o "$objects_file" "$objects_file"
 while IFS= read -r object; do
   nm -C "$object" 2>/dev/null | grep '__nv_hdl_helper<__nv_dl_tag<' |
     sed -n 's/.*__nv_dl_tag<.*, &(\(.*\)), [0-9]*u\?>.*/\1/p' | sort -u |
     sed "s|\$|\t${object#"$build"/}|" >>"$listing" || true
-done < <(find "$build" -name '*.o')
-objects=$(find "$build" -name '*.o' | wc -l)
+done <"$objects_file"
+objects=$(wc -l <"$objects_file")
 [ "$objects" -gt 0 ] || { echo "check_cuda_lambdas: no object files under $build" >&2; exit 2; }
 duplicated=$(cut -f1 "$listing" | sort | uniq -d)
 if [ -n "$duplicated" ]; then

@@ -812,4 +812,12 @@ TimeStepAdvice Engine::State::time_step_advice() const {
   return advice;
 }
 
+// The one instantiation of the integrators (see the note in kernels/integrate.hpp); here, with
+// their one caller, where the compiler gave them 23 instructions per particle-step fewer than in
+// a unit of their own.
+template void kick_and_drift<IsotropicRotation>(const ParticleViews&, double);
+template void kick_and_drift<RigidBodyRotation>(const ParticleViews&, double);
+template void kick<IsotropicRotation>(const ParticleViews&, double);
+template void kick<RigidBodyRotation>(const ParticleViews&, double);
+
 } // namespace kdem

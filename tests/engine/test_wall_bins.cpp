@@ -228,34 +228,36 @@ struct TouchedTriangles {
   }
 };
 
-// Spheres near a fine flat grid, a latitude-longitude ball (convex edges and vertices, fans at
-// the poles) and a valley (a concave edge): for each, points up to one skin away (where its centre
-// may drift before the lists are built again). Every triangle whose claimed feature a sphere
-// touches at such a point must be in the sphere's list from its centre, which leaves out the
-// triangles that cannot claim it; and the list must be shorter than that of all triangles
-// within reach (the filter does something).
-TEST(WallBins, SphereListsKeepEveryTriangleThatMayClaimThemWithinTheSkin) {
-  MeshFolder folder;
-  const double skin = 4e-4;
+// Spheres of radius 1 to 3 mm near a fine flat grid, a latitude-longitude ball (convex edges and
+// vertices, fans at the poles) and a valley (a concave edge), from 0.3 r inside to r outside
+// their surfaces, each with `drifts` points up to one skin away from its centre.
+struct SpheresNearMeshes {
+  WallSet walls;
+  ParticleViews p;
+  Vec3View drifted;
+  ScalarView drifted_radius;
+  int spheres = 3000, drifts = 4;
+};
+
+SpheresNearMeshes spheres_near_meshes(const MeshFolder& folder, double skin) {
+  SpheresNearMeshes s;
   const std::vector<WallConfig> configs = {
       mesh_wall("steel", folder.write("grid", flat_grid(0.05, -0.12, 25))),
       mesh_wall("steel", folder.write("ball", sphere_mesh({0, 0, 0}, 0.1, 31, 48))),
       mesh_wall("steel", folder.write("valley", valley(0.2, 0.03, 0)))};
   const WallElementTable table = build_wall_elements(configs, {-1, -1, -1}, {1, 1, 1});
-  WallSet walls;
-  walls.wall_count = 3;
-  walls.elements = upload_wall_elements(table);
-  walls.motion = upload<WallMotion>("motion", std::vector<WallMotion>(3));
-  walls.pose = DeviceView<WallPose*>("pose", 3);
-  update_wall_poses(walls, 0);
-  upload_wall_lookup(walls, bin_wall_elements(table, 3, 3e-3 + skin));
+  s.walls.wall_count = 3;
+  s.walls.elements = upload_wall_elements(table);
+  s.walls.motion = upload<WallMotion>("motion", std::vector<WallMotion>(3));
+  s.walls.pose = DeviceView<WallPose*>("pose", 3);
+  update_wall_poses(s.walls, 0);
+  upload_wall_lookup(s.walls, bin_wall_elements(table, 3, 3e-3 + skin));
 
-  const int spheres = 3000, drifts = 4;
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> unit(0, 1), size(1e-3, 3e-3);
   std::normal_distribution<double> gauss;
   std::vector<double> centre, drifted, radius, drifted_radius;
-  for (int i = 0; i < spheres; ++i) {
+  for (int i = 0; i < s.spheres; ++i) {
     const double r = size(rng), gap = (1.3 * unit(rng) - 0.3) * r; // surface to centre
     Vec3 c;
     if (i % 3 == 0) {
@@ -269,24 +271,41 @@ TEST(WallBins, SphereListsKeepEveryTriangleThatMayClaimThemWithinTheSkin) {
     }
     centre.insert(centre.end(), {c.x, c.y, c.z});
     radius.push_back(r);
-    for (int k = 0; k < drifts; ++k) {
+    for (int k = 0; k < s.drifts; ++k) {
       const Vec3 d{gauss(rng), gauss(rng), gauss(rng)};
       const Vec3 moved = c + (skin * std::cbrt(unit(rng)) / norm(d)) * d;
       drifted.insert(drifted.end(), {moved.x, moved.y, moved.z});
       drifted_radius.push_back(r);
     }
   }
-  ParticleViews p;
-  p.allocate(spheres);
-  p.position = view_from_host<Vec3View>("position", centre, 3);
-  p.radius = view_from_host<ScalarView>("radius", radius, 1);
+  s.p.allocate(s.spheres);
+  s.p.position = view_from_host<Vec3View>("position", centre, 3);
+  s.p.radius = view_from_host<ScalarView>("radius", radius, 1);
+  s.drifted = view_from_host<Vec3View>("drifted", drifted, 3);
+  s.drifted_radius = view_from_host<ScalarView>("drifted_radius", drifted_radius, 1);
+  return s;
+}
+
+// Spheres near a fine flat grid, a latitude-longitude ball (convex edges and vertices, fans at
+// the poles) and a valley (a concave edge): for each, points up to one skin away (where its centre
+// may drift before the lists are built again). Every triangle whose claimed feature a sphere
+// touches at such a point must be in the sphere's list from its centre, which leaves out the
+// triangles that cannot claim it; and the list must be shorter than that of all triangles
+// within reach (the filter does something).
+TEST(WallBins, SphereListsKeepEveryTriangleThatMayClaimThemWithinTheSkin) {
+  MeshFolder folder;
+  const double skin = 4e-4;
+  const SpheresNearMeshes s = spheres_near_meshes(folder, skin);
+  const WallSet& walls = s.walls;
+  const ParticleViews& p = s.p;
+  const int spheres = s.spheres, drifts = s.drifts;
   const WallContactList claims = build_wall_contact_list(p, walls, skin, 0);
   const WallContactList within_reach = build_wall_contact_list(p, walls, skin, -1);
 
   TouchedTriangles touched{walls.elements,
                            walls.pose,
-                           view_from_host<Vec3View>("drifted", drifted, 3),
-                           view_from_host<ScalarView>("drifted_radius", drifted_radius, 1),
+                           s.drifted,
+                           s.drifted_radius,
                            DeviceView<int* [8]>("touched", spheres * drifts),
                            IndexView("touched_count", spheres * drifts)};
   Kokkos::parallel_for("kdem::test_touched_triangles", RangePolicy(0, spheres * drifts), touched);
@@ -308,6 +327,85 @@ TEST(WallBins, SphereListsKeepEveryTriangleThatMayClaimThemWithinTheSkin) {
     }
   EXPECT_GT(touching, spheres); // many of the drifted spheres touch
   EXPECT_LT(claims.entry_count, 0.6 * within_reach.entry_count);
+}
+
+// Compares, for each sphere of spheres_near_meshes and each of its triangle entries, the contact
+// through the entry's face certificate with the contact from the full claim tests, at the
+// sphere's centre (which leaves a certificate where a face claims it) and then at each drifted
+// point (where the certificate is used if it holds). Counts differences and uses.
+struct CertifiedAgainstFull {
+  WallElements el;
+  DeviceView<WallPose*> pose;
+  WallContactList list;
+  SphereWallContact at_centre, at_drifted;
+  int drifts;
+  IndexView differences, certified_uses;
+
+  KOKKOS_INLINE_FUNCTION static bool same(const WallContactGeometry& a,
+                                          const WallContactGeometry& b) {
+    const ContactGeometry &g = a.geometry, &h = b.geometry;
+    return g.touching == h.touching &&
+           (!g.touching ||
+            (g.overlap == h.overlap && g.normal.x == h.normal.x && g.normal.y == h.normal.y &&
+             g.normal.z == h.normal.z && g.point.x == h.point.x && g.point.y == h.point.y &&
+             g.point.z == h.point.z));
+  }
+
+  KOKKOS_INLINE_FUNCTION void compare(const SphereWallContact& contact, int m, int e, int k,
+                                      const WallPose& wall, int i) const {
+    const Vec3 p = wall.to_reference(load3(contact.position, m));
+    if (triangle_out_of_reach(list.triangle_corners, k, p, contact.radius(m)))
+      return; // the kernel asks no more of such an entry
+    const double margin = list.face_certificate(k, 3);
+    const Vec3 at{list.face_certificate(k, 0), list.face_certificate(k, 1),
+                  list.face_certificate(k, 2)};
+    if (margin > 0 && norm2(p - at) < 0.25 * margin * margin)
+      ++certified_uses(i);
+    const TriangleEntry entry{list.triangle_corners, list.face_certificate, k};
+    if (!same(contact(m, e, wall, entry), contact(m, e, wall)))
+      ++differences(i);
+  }
+
+  KOKKOS_INLINE_FUNCTION void operator()(int i) const {
+    for (int k = list.row_start(i); k < list.row_start(i + 1); ++k) {
+      const int e = list.element(k);
+      if (el.kind(e) != triangle_element)
+        continue;
+      const WallPose wall = pose(el.wall(e));
+      compare(at_centre, i, e, k, wall, i);
+      for (int d = 0; d < drifts; ++d)
+        compare(at_drifted, i * drifts + d, e, k, wall, i);
+    }
+  }
+};
+
+// A face certificate gives the contact the full claim tests give, bit for bit, and is used:
+// 3000 spheres near a flat grid, a ball and a valley, each at its centre and at four points up to
+// one skin away. The certificate is a shortcut of the sphere-wall kernel on fine meshes (a face
+// that claimed a centre claims every point within half its margin, without loading the
+// triangle's row); a difference would change contacts.
+TEST(WallBins, FaceCertificatesGiveTheContactOfTheFullClaimTests) {
+  MeshFolder folder;
+  const double skin = 4e-4;
+  const SpheresNearMeshes s = spheres_near_meshes(folder, skin);
+  WallContactList list = build_wall_contact_list(s.p, s.walls, skin, 0);
+  allocate_wall_contact_results(list, s.walls.elements);
+  CertifiedAgainstFull check{s.walls.elements,
+                             s.walls.pose,
+                             list,
+                             SphereWallContact{s.walls.elements, s.p.position, s.p.radius},
+                             SphereWallContact{s.walls.elements, s.drifted, s.drifted_radius},
+                             s.drifts,
+                             IndexView("differences", s.spheres),
+                             IndexView("certified_uses", s.spheres)};
+  Kokkos::parallel_for("kdem::test_certified_against_full", RangePolicy(0, s.spheres), check);
+  long differences = 0, uses = 0;
+  for (int n : host_ints(check.differences))
+    differences += n;
+  for (int n : host_ints(check.certified_uses))
+    uses += n;
+  EXPECT_EQ(differences, 0);
+  EXPECT_GT(uses, 1000) << "the certificates were hardly used: the test would not see them";
 }
 
 } // namespace
