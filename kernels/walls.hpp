@@ -368,12 +368,15 @@ inline void copy_triangle_corners(WallContactList& list, const WallElements& el)
 // Whether the triangle of entry k lies farther from the reference-frame centre p than a
 // particle of bounding radius r reaches, by the test claimed_triangle_feature makes first (so
 // that a sphere's contact is the same with or without this test).
+KOKKOS_INLINE_FUNCTION Vec3 entry_corner(const DeviceView<double* [9]>& corners, int k, int v) {
+  return {corners(k, 3 * v), corners(k, 3 * v + 1), corners(k, 3 * v + 2)};
+}
+
 KOKKOS_INLINE_FUNCTION bool triangle_out_of_reach(const DeviceView<double* [9]>& corners, int k,
                                                   Vec3 p, double r) {
-  const Vec3 a{corners(k, 0), corners(k, 1), corners(k, 2)};
-  const Vec3 b{corners(k, 3), corners(k, 4), corners(k, 5)};
-  const Vec3 c{corners(k, 6), corners(k, 7), corners(k, 8)};
-  return !(triangle_query(a, b, c, p).signed_distance < r * (1 + 1e-9));
+  return !(triangle_query(entry_corner(corners, k, 0), entry_corner(corners, k, 1),
+                          entry_corner(corners, k, 2), p)
+               .signed_distance < r * (1 + 1e-9));
 }
 
 // The copies a triangle entry k keeps (see WallContactList::triangle_corners and
@@ -401,9 +404,8 @@ KOKKOS_INLINE_FUNCTION SurfaceQuery certified_triangle_feature(const WallElement
   const Vec3 claimed_at{entry.certificate(k, 0), entry.certificate(k, 1), entry.certificate(k, 2)};
   if (margin > 0 && norm2(p - claimed_at) < 0.25 * margin * margin) {
     const TrianglePlane t =
-        triangle_plane(Vec3{entry.corners(k, 0), entry.corners(k, 1), entry.corners(k, 2)},
-                       Vec3{entry.corners(k, 3), entry.corners(k, 4), entry.corners(k, 5)},
-                       Vec3{entry.corners(k, 6), entry.corners(k, 7), entry.corners(k, 8)}, p);
+        triangle_plane(entry_corner(entry.corners, k, 0), entry_corner(entry.corners, k, 1),
+                       entry_corner(entry.corners, k, 2), p);
     // Claimed by the face, p's distance to the triangle is its height (up to rounding, which
     // decides nothing here: beyond the radius no contact touches).
     applies = math::fabs(t.height) < reach * (1 + 1e-9);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <random>
 
+#include "contact_test_support.hpp"
 #include "kernels/contact_law.hpp"
 
 namespace kdem {
@@ -56,19 +57,10 @@ ContactInput resting_contact(double overlap) {
   return in; // no relative motion: no damping, the spring alone
 }
 
-PairCoefficients glass() {
-  PairCoefficients c;
-  c.effective_youngs = 5e7;
-  c.effective_shear = 2e7;
-  c.damping = 0.3;
-  c.friction = 0.4;
-  return c;
-}
-
 // F_n = 4/3 E* sqrt(R*) d^1.5, S_t = 8 G* sqrt(R* d); with the spring s along x the tangential
 // force is -S_t s below mu F_n, and -mu F_n along x (the spring cut to mu F_n / S_t) above.
 TEST(ContactLaw, CoulombCapHoldsTheTangentialForceAtMuTimesTheNormalForce) {
-  const PairCoefficients c = glass();
+  const PairCoefficients c = testing::glass_pair();
   const double overlap = 1e-6;
   const ContactInput in = resting_contact(overlap);
   const double normal_force =

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <vector>
 
+#include "contact_test_support.hpp"
 #include "kernels/families/pair_loop.hpp"
 #include "src/host_copy.hpp"
 
@@ -65,15 +66,6 @@ struct SlotsEach {
   KOKKOS_INLINE_FUNCTION int operator()(int) const { return slots; }
 };
 
-PairCoefficients coefficients() {
-  PairCoefficients c;
-  c.effective_youngs = 5e7;
-  c.effective_shear = 2e7;
-  c.damping = 0.3;
-  c.friction = 0.4;
-  return c;
-}
-
 // Independent sphere contacts between the lobes, with a history per lobe pair (lower, upper):
 // the forces on the lower dumbbell.
 struct LobeReference {
@@ -95,7 +87,7 @@ struct LobeReference {
         in.relative_velocity = lower_v - upper_v;
         in.effective_radius = 0.5 * lobe_radius;
         in.effective_mass = effective_mass;
-        total += hertz_mindlin<false>(coefficients(), in, dt, history[a][b]).force_on_i;
+        total += hertz_mindlin<false>(testing::glass_pair(), in, dt, history[a][b]).force_on_i;
         ++touching;
       }
     return total;
@@ -125,7 +117,7 @@ struct SlidingDumbbells {
     c.particles.orientation = from_host<QuatView>("orientation", {1, 0, 0, 0, 1, 0, 0, 0}, 4);
     c.coefficients = CoefficientTable("coefficients", 1, 1);
     auto table = Kokkos::create_mirror_view(c.coefficients);
-    table(0, 0) = coefficients();
+    table(0, 0) = testing::glass_pair();
     Kokkos::deep_copy(c.coefficients, table);
     c.dt = dt;
     list = one_pair_list(0, 1);
@@ -310,7 +302,7 @@ TEST(ContactPoints, ParticleWallContactsAppearAndVanishPerFeature) {
   allocate_wall_contacts(list, walls.elements, false);
   CoefficientTable table("coefficients", 1, 1);
   auto host_table = Kokkos::create_mirror_view(table);
-  host_table(0, 0) = coefficients();
+  host_table(0, 0) = testing::glass_pair();
   Kokkos::deep_copy(table, host_table);
 
   ContactHistory reference[2] = {};
@@ -337,7 +329,7 @@ TEST(ContactPoints, ParticleWallContactsAppearAndVanishPerFeature) {
       in.relative_velocity = Vec3{speed, 0, vz};
       in.effective_radius = lobe_radius;
       in.effective_mass = mass;
-      expected += hertz_mindlin<false>(coefficients(), in, dt, reference[lobe]).force_on_i;
+      expected += hertz_mindlin<false>(testing::glass_pair(), in, dt, reference[lobe]).force_on_i;
       ++touching;
     }
     const std::vector<double> f = flatten_to_host(list.force_on_i, 1);
