@@ -33,9 +33,12 @@ struct PairList {
   Vec3View torque_on_i;
   // Pair types with an iterative narrow phase only (empty in scenes of spheres): the Newton
   // warm start per slot (midway point relative to the midpoint of the two centres, m;
-  // multiplier, 0 = none) and per pair the axis that last separated the bounding boxes.
+  // multiplier, 0 = none; how far that relative point moved between the last two evaluations,
+  // m, by which the next start is extrapolated) and per pair the axis that last separated the
+  // bounding boxes.
   Vec3View midway_point;
   ScalarView midway_multiplier;
+  Vec3View midway_step;
   IndexView separating_axis;
   // Separation certificate of a pair that did not touch (see SeparationCertificates): a lower
   // bound on its gap, m (0 = none), and the centre offset x_j - x_i and turned angles of i and j
@@ -66,6 +69,7 @@ template <class Visitor> void for_each_pair_list_field(Visitor&& visit) {
   visit("overlap", &PairList::overlap);
   visit("midway_point", &PairList::midway_point);
   visit("midway_multiplier", &PairList::midway_multiplier);
+  visit("midway_step", &PairList::midway_step);
   visit("separating_axis", &PairList::separating_axis);
   visit("separation_margin", &PairList::separation_margin);
   visit("separation_offset", &PairList::separation_offset);
@@ -145,6 +149,7 @@ inline void fill_reverse_index(PairList& list, int particles) {
 inline void allocate_narrow_phase_state(PairList& list) {
   list.midway_point = Vec3View("pair_midway_point", list.slot_count);
   list.midway_multiplier = ScalarView("pair_midway_multiplier", list.slot_count);
+  list.midway_step = Vec3View("pair_midway_step", list.slot_count);
   list.separating_axis = IndexView("pair_separating_axis", list.pair_count);
   Kokkos::deep_copy(list.separating_axis, -1);
   list.separation_margin = ScalarView("pair_separation_margin", list.pair_count);
@@ -251,7 +256,8 @@ KOKKOS_INLINE_FUNCTION int shared_slots(const ContactSlots& fresh, int k, const 
   return fresh_count < old_count ? fresh_count : old_count;
 }
 
-// Warm starts and separation certificates survive a rebuild. Flipped pairs (midway-point
+// Warm starts and separation certificates survive a rebuild (the midway point and its step are
+// relative to the midpoint of the centres, the same for both orders). Flipped pairs (midway-point
 // method of implicit surfaces): grad F_j + (1/lambda^2) grad F_i = 0, so the multiplier becomes
 // 1/lambda; the box axes of i and j swap, so the separating-axis hint is dropped; the
 // certificate's offset changes sign and its turned angles swap.
@@ -260,10 +266,10 @@ inline void transfer_narrow_phase_state(PairList& fresh, const PairList& old,
   auto pair_i = fresh.pair_i;
   auto partner = fresh.partner_id;
   const ContactSlots slots = fresh.slots(), old_slots = old.slots();
-  auto point = fresh.midway_point;
+  auto point = fresh.midway_point, step = fresh.midway_step;
   auto multiplier = fresh.midway_multiplier;
   auto axis = fresh.separating_axis;
-  auto old_point = old.midway_point;
+  auto old_point = old.midway_point, old_step = old.midway_step;
   auto old_multiplier = old.midway_multiplier;
   auto old_axis = old.separating_axis;
   auto margin = fresh.separation_margin, old_margin = old.separation_margin;
@@ -279,8 +285,10 @@ inline void transfer_narrow_phase_state(PairList& fresh, const PairList& old,
         const int shared = shared_slots(slots, k, old_slots, found);
         for (int c = 0; c < shared; ++c) {
           const int to = slots.first(k) + c, from = old_slots.first(found) + c;
-          for (int d = 0; d < 3; ++d)
+          for (int d = 0; d < 3; ++d) {
             point(to, d) = old_point(from, d);
+            step(to, d) = old_step(from, d);
+          }
           const double lambda = old_multiplier(from);
           multiplier(to) = flipped ? (lambda > 0 ? 1.0 / lambda : 0.0) : lambda;
         }

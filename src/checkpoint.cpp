@@ -12,10 +12,11 @@
 namespace kdem {
 namespace {
 
-// 2: particles carry their source and tag; pair and wall lists their contact slots. Format 1
-// files are read too: their particles get no source or tag (-1), their lists one slot per
-// pair or entry.
-constexpr std::int64_t checkpoint_format = 2;
+// 2: particles carry their source and tag; pair and wall lists their contact slots.
+// 3: pair lists carry the last step of each Newton warm start (pairs/midway_step).
+// Files of formats 1 and 2 are read too: format 1 particles get no source or tag (-1), its
+// lists one slot per pair or entry; formats 1 and 2 give every warm start a zero step.
+constexpr std::int64_t checkpoint_format = 3;
 
 template <class View> void save_view(Hdf5Writer& out, const std::string& name, const View& view) {
   const int rows = view.data() ? int(view.extent(0)) : 0;
@@ -44,17 +45,23 @@ template <class View> void load_view(const Hdf5Reader& in, const std::string& na
   view = view_from_host<View>(name, values, int(columns));
 }
 
-// The datasets format 2 added, and what a format 1 file stands for instead.
-bool added_in_format_2(const std::string& name) {
-  return name == "particles/source" || name == "particles/tag" || name == "pairs/contact_start" ||
-         name == "pairs/feature_i" || name == "pairs/feature_j" ||
-         name == "wall_contacts/contact_start" || name == "wall_contacts/feature";
+// The format that added a dataset (1: there from the start).
+std::int64_t format_that_added(const std::string& name) {
+  if (name == "particles/source" || name == "particles/tag" || name == "pairs/contact_start" ||
+      name == "pairs/feature_i" || name == "pairs/feature_j" ||
+      name == "wall_contacts/contact_start" || name == "wall_contacts/feature")
+    return 2;
+  if (name == "pairs/midway_step")
+    return 3;
+  return 1;
 }
 
+// What an older file stands for instead of a dataset it lacks: per particle -1 (no label), per
+// pair nothing (one slot per pair), except the warm-start steps, zero for each warm start.
 template <class View>
 void load_view_of_format(const Hdf5Reader& in, std::int64_t format, const std::string& name,
                          View& view, int particle_count) {
-  if (format >= 2 || !added_in_format_2(name)) {
+  if (format >= format_that_added(name)) {
     load_view(in, name, view);
     return;
   }
@@ -203,6 +210,8 @@ template <class State> void read_tables(State& s, const CheckedInput& in, std::i
   });
   s.pairs.pair_count = in.count("pair_count");
   s.pairs.slot_count = int(s.pairs.overlap.extent(0));
+  if (format < format_that_added("pairs/midway_step"))
+    s.pairs.midway_step = Vec3View("pair_midway_step", s.pairs.midway_point.extent(0));
   for_each_wall_contact_field([&](const char* name, auto member) {
     load_view_of_format(in.file(), format, std::string("wall_contacts/") + name,
                         s.wall_contacts.*member, 0);
@@ -266,7 +275,7 @@ void Engine::read_checkpoint(const std::string& path) {
   State s = *state_;
   const CheckedInput in(path);
   const std::int64_t format = in.integer("format");
-  in.require(format == 1 || format == checkpoint_format,
+  in.require(format >= 1 && format <= checkpoint_format,
              "unknown checkpoint format " + std::to_string(format));
   in.require(in.integer("material_count") == std::int64_t(s.scene.materials.size()),
              "material count differs");

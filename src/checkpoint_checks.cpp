@@ -205,6 +205,7 @@ void check_pairs(const RestoreCheck& check, const PairList& l, const ListContext
   const bool narrow = c.narrow_phase_state;
   check.optional_rows("pairs/midway_point", l.midway_point, slots, narrow);
   check.optional_rows("pairs/midway_multiplier", l.midway_multiplier, slots, narrow);
+  check.optional_rows("pairs/midway_step", l.midway_step, slots, narrow);
   check.optional_rows("pairs/separating_axis", l.separating_axis, count, narrow);
   check.optional_rows("pairs/separation_margin", l.separation_margin, count, narrow);
   check.optional_rows("pairs/separation_offset", l.separation_offset, count, narrow);

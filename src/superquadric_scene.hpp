@@ -22,6 +22,7 @@ struct SuperquadricContactConfig : FamilySettings {
   double curvature_limit = 2; // R* from curvature is kept within [1/limit, limit] x R*_volume
   bool separation_certificates = true; // skip pairs whose gap bound outlasts their motion
   bool compact_candidates = true;      // scan the box tests' survivors into a dense list
+  bool extrapolate_start = true;       // Newton starts from the last point moved by its last step
   int team_size = 0;                   // lanes per team of the narrow-phase kernels; 0: flat
 };
 

@@ -38,6 +38,7 @@ SuperquadricContactSettings device_settings(const FamilySettings* scene_settings
   settings.curvature_limit = config.curvature_limit;
   settings.separation_certificates = config.separation_certificates;
   settings.compact_candidates = config.compact_candidates;
+  settings.extrapolate_start = config.extrapolate_start;
   settings.team_size = config.team_size;
   if (config.tolerance > 0)
     settings.newton.tolerance = config.tolerance;

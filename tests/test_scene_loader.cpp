@@ -1004,6 +1004,15 @@ TEST(SceneShapes, SeparationCertificatesAreOnByDefaultAndCanBeTurnedOff) {
                          "expected true or false"));
 }
 
+TEST(SceneShapes, ExtrapolatedNewtonStartsAreOnByDefaultAndCanBeTurnedOff) {
+  EXPECT_TRUE(kdem::superquadric_contact(load_text(minimal_scene())).extrapolate_start);
+  const SceneConfig scene =
+      load_text(minimal_scene_plus("superquadric_contact: {extrapolate_start: false}\n"));
+  EXPECT_FALSE(kdem::superquadric_contact(scene).extrapolate_start);
+  EXPECT_TRUE(fails_with(minimal_scene_plus("superquadric_contact: {extrapolate_start: yes2}\n"),
+                         14, "superquadric_contact.extrapolate_start", "expected true or false"));
+}
+
 TEST(SceneKeys, SortByCellIsOnByDefault) {
   EXPECT_TRUE(load_text(minimal_scene()).sort_by_cell);
   EXPECT_FALSE(load_text(minimal_scene_plus("sort_by_cell: false\n")).sort_by_cell);

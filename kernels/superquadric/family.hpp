@@ -18,6 +18,7 @@ struct SuperquadricContactSettings {
   double curvature_limit = 2;
   bool separation_certificates = true; // see SeparationCertificates
   bool compact_candidates = true;      // see superquadric_pairs_in_reach
+  bool extrapolate_start = true;       // see NarrowPhase<SuperquadricFamily, SuperquadricFamily>
   int team_size = 0;                   // of the narrow-phase kernel, see reduce_over_items
 };
 

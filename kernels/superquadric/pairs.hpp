@@ -146,17 +146,20 @@ struct SuperquadricPairState {
   ContactSlots slots;
   Vec3View point;
   ScalarView multiplier;
+  Vec3View step;
   SeparationCertificates certificates;
   NarrowPhaseControls controls;
   double limit = 2;
+  bool extrapolate = true;
   int team_size = 0;
 
   explicit SuperquadricPairState(const ContactContext& c)
       : p(c.particles), table(c.table<SuperquadricFamily>()), shapes(c.shape_families),
         slots(c.pairs.slots()), point(c.pairs.midway_point), multiplier(c.pairs.midway_multiplier),
+        step(c.pairs.midway_step),
         certificates(c.particles, c.pairs, table.settings.separation_certificates),
         controls(table.settings.newton), limit(table.settings.curvature_limit),
-        team_size(table.settings.team_size) {}
+        extrapolate(table.settings.extrapolate_start), team_size(table.settings.team_size) {}
 
   // The stored point is relative to the midpoint of the two centres, so that it moves with the
   // pair's mean translation (and is the same for both orders of i and j).
@@ -217,11 +220,24 @@ template <> struct NarrowPhase<SuperquadricFamily, SuperquadricFamily> : Superqu
                                        table.settings.compact_candidates);
   }
 
+  // The Newton start is the last midway point moved on by its last step (relative to the
+  // midpoint of the centres): in a bed, the point moves smoothly from step to step, and the
+  // extrapolation leaves one Newton iteration (within the tolerance) where the last point often
+  // needed two (measured in docs/performance.md, section 17). Any start that converges gives the
+  // same point (see superquadric_pair_contact), so only the iteration count depends on it.
   KOKKOS_INLINE_FUNCTION PairOutcome operator()(const PairRef& r, PairContacts<1>& found,
                                                 NarrowPhaseTally& tally) const {
-    const NarrowPhaseResult result = superquadric_pair_contact(
-        SuperquadricFamily::pose(table, shapes, p, r.i),
-        SuperquadricFamily::pose(table, shapes, p, r.j), warm_start(r.k, r.i, r.j), controls);
+    const int slot = slots.first(r.k);
+    const Vec3 midpoint = centres_midpoint(r.i, r.j);
+    const Vec3 last = load3(point, slot);
+    const double last_multiplier = multiplier(slot);
+    const Vec3 ahead = extrapolate ? load3(step, slot) : Vec3{0, 0, 0};
+    const MidwayState start{last + ahead + midpoint, last_multiplier};
+    const NarrowPhaseResult result =
+        superquadric_pair_contact(SuperquadricFamily::pose(table, shapes, p, r.i),
+                                  SuperquadricFamily::pose(table, shapes, p, r.j), start, controls);
+    const bool continued = last_multiplier > 0 && result.status == 0;
+    store3(step, slot, continued ? result.state.point - midpoint - last : Vec3{0, 0, 0});
     return record(r, result,
                   pair_equivalent_radius<SuperquadricFamily, SuperquadricFamily>(r.i, r.j), found,
                   tally);

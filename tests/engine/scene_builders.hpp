@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <string>
@@ -132,6 +133,21 @@ struct RunOutcome {
   int contacts = 0;
   double smallest_radius = 0;
 };
+
+// The largest distance between the positions of a particle in two runs; infinite where the two
+// runs do not hold the same particles.
+inline double largest_position_difference(const RunOutcome& a, const RunOutcome& b) {
+  if (a.position.size() != b.position.size())
+    return std::numeric_limits<double>::infinity();
+  double largest = 0;
+  for (const auto& [id, x] : a.position) {
+    const auto found = b.position.find(id);
+    if (found == b.position.end())
+      return std::numeric_limits<double>::infinity();
+    largest = std::max(largest, norm(x - found->second));
+  }
+  return largest;
+}
 
 inline RunOutcome run_steps(const SceneConfig& scene, int steps) {
   Engine engine(scene);

@@ -19,6 +19,7 @@ class Bytes {
 public:
   Bytes(const std::uint8_t* data, std::size_t size) : data_(data), size_(size) {}
   bool empty() const { return used_ >= size_; }
+  std::size_t offset() const { return used_; }
   std::uint8_t byte() { return empty() ? 0 : data_[used_++]; }
   std::uint64_t word(int bytes) {
     std::uint64_t value = 0;
@@ -197,11 +198,25 @@ void edit_text(Dataset& d, Bytes& bytes) {
     d.text.resize(at);
 }
 
-void apply_edit(CheckpointImage& image, Bytes& bytes, std::set<std::string>& touched) {
+std::size_t choose_dataset(const CheckpointImage& image, Bytes& bytes,
+                           std::vector<DatasetChoice>* choices) {
+  const std::size_t offset = bytes.offset();
+  const std::size_t chosen = bytes.word(2) % image.datasets.size();
+  if (choices) {
+    DatasetChoice choice{offset, image.datasets[chosen].name, {}};
+    for (const Dataset& d : image.datasets)
+      choice.among.push_back(d.name);
+    choices->push_back(std::move(choice));
+  }
+  return chosen;
+}
+
+void apply_edit(CheckpointImage& image, Bytes& bytes, std::set<std::string>& touched,
+                std::vector<DatasetChoice>* choices) {
   auto& datasets = image.datasets;
   if (datasets.empty())
     return;
-  const std::size_t target = bytes.word(2) % datasets.size();
+  const std::size_t target = choose_dataset(image, bytes, choices);
   const std::uint8_t operation = bytes.byte() % 9;
   Dataset& d = datasets[target];
   touched.insert(d.name);
@@ -228,7 +243,7 @@ void apply_edit(CheckpointImage& image, Bytes& bytes, std::set<std::string>& tou
     toggle_scalar(d);
     break;
   case 7: {
-    const Dataset& source = datasets[bytes.word(2) % datasets.size()];
+    const Dataset& source = datasets[choose_dataset(image, bytes, choices)];
     const std::string name = d.name;
     d = source;
     d.name = name;
@@ -408,12 +423,54 @@ void write_edited(const std::string& base_path, const CheckpointImage& image,
 }
 
 std::set<std::string> apply_edits(CheckpointImage& image, const std::uint8_t* data,
-                                  std::size_t size) {
+                                  std::size_t size, std::vector<DatasetChoice>* choices) {
   Bytes bytes(data, size);
   std::set<std::string> touched;
   for (int edit = 0; edit < 16 && !bytes.empty(); ++edit)
-    apply_edit(image, bytes, touched);
+    apply_edit(image, bytes, touched, choices);
   return touched;
+}
+
+namespace {
+
+std::vector<DatasetChoice> choices_of(CheckpointImage image,
+                                      const std::vector<std::uint8_t>& input) {
+  std::vector<DatasetChoice> choices;
+  apply_edits(image, input.data(), input.size(), &choices);
+  return choices;
+}
+
+} // namespace
+
+// Each pass rewrites the first choice that differs (the later choices depend on it: a removal
+// changes the names they are chosen among), so that it names the same dataset; the word is its
+// index, and the bytes are extended where the choice was read beyond the input's end (as zeros:
+// what Bytes gives there), never past the edit that read it.
+std::vector<std::uint8_t> retarget_edits(const CheckpointImage& before, const CheckpointImage& now,
+                                         const std::vector<std::uint8_t>& input) {
+  const std::vector<DatasetChoice> meant = choices_of(before, input);
+  std::vector<std::uint8_t> output = input;
+  for (std::size_t pass = 0; pass <= meant.size(); ++pass) {
+    const std::vector<DatasetChoice> found = choices_of(now, output);
+    std::size_t k = 0;
+    while (k < meant.size() && k < found.size() && found[k].name == meant[k].name)
+      ++k;
+    if (k == meant.size())
+      return output;
+    if (k == found.size())
+      throw std::runtime_error("the rewritten input makes fewer edits than the original");
+    const auto& among = found[k].among;
+    const auto at = std::find(among.begin(), among.end(), meant[k].name);
+    if (at == among.end() || among.size() > 0xffff)
+      throw std::runtime_error("no dataset " + meant[k].name + " to choose");
+    const auto index = std::size_t(at - among.begin());
+    const std::size_t offset = found[k].offset;
+    if (output.size() < offset + 2)
+      output.resize(offset + 2, 0);
+    output[offset] = std::uint8_t(index >> 8);
+    output[offset + 1] = std::uint8_t(index & 0xff);
+  }
+  throw std::runtime_error("the choices of datasets did not settle");
 }
 
 } // namespace kdem::fuzz

@@ -30,11 +30,26 @@ struct CheckpointImage {
 // Every dataset of the file, with its element kind and shape.
 CheckpointImage read_image(const std::string& path);
 
+// Where an input names a dataset: the offset of the two bytes that chose it (an edit's target,
+// or the source a copy takes), the dataset chosen, and the names it was chosen among.
+struct DatasetChoice {
+  std::size_t offset = 0;
+  std::string name;
+  std::vector<std::string> among;
+};
+
 // Reads edits from the bytes until they run out (at most 16): each names a dataset and an
 // operation with its operands. Any byte string is a valid list of edits. Returns the names of
-// the datasets edited or removed.
+// the datasets edited or removed; `choices`, when given, receives each choice of a dataset.
 std::set<std::string> apply_edits(CheckpointImage& image, const std::uint8_t* data,
-                                  std::size_t size);
+                                  std::size_t size, std::vector<DatasetChoice>* choices = nullptr);
+
+// A dataset is chosen by its index among the image's datasets, so a checkpoint that gains a
+// dataset changes what an input written before means. Returns the input rewritten so that each
+// edit chooses in `now` the dataset it chose in `before` (the image before the change); the
+// operands are left as they are. Throws where `now` lacks a dataset `before` had.
+std::vector<std::uint8_t> retarget_edits(const CheckpointImage& before, const CheckpointImage& now,
+                                         const std::vector<std::uint8_t>& input);
 
 // The file at base_path (which `image` was read from, before the edits) copied to path, with
 // the touched datasets written again as the image holds them, or removed where it has none.

@@ -10,16 +10,25 @@
 // The bytes of the HDF5 file itself are not mutated: HDF5's own parser is not kdem's code (see
 // docs/fuzzing.md). The scene is tests/fuzz/scene_files/checkpoint.yaml, found through
 // KDEM_FUZZ_BASE_DIR (default: the working directory).
+//
+// When the checkpoint gains datasets, inputs written before choose other datasets (edits choose
+// by index). With KDEM_FUZZ_RETARGET_WITHOUT (the new datasets, comma-separated) and
+// KDEM_FUZZ_RETARGET_TO (a file), the input is not run but rewritten into that file so that it
+// edits what it edited in the checkpoint without them (docs/fuzzing.md, "Regression inputs").
 #include <Kokkos_Core.hpp>
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <memory>
+#include <sstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -106,10 +115,31 @@ void require(bool ok, const char* what) {
   }
 }
 
+bool retargeted(const Base& b, const std::uint8_t* data, std::size_t size) {
+  const char* added = std::getenv("KDEM_FUZZ_RETARGET_WITHOUT");
+  const char* output_path = std::getenv("KDEM_FUZZ_RETARGET_TO");
+  if (!added || !output_path)
+    return false;
+  CheckpointImage before = b.image;
+  std::stringstream names(added);
+  auto& datasets = before.datasets;
+  for (std::string name; std::getline(names, name, ',');)
+    datasets.erase(std::remove_if(datasets.begin(), datasets.end(),
+                                  [&](const auto& d) { return d.name == name; }),
+                   datasets.end());
+  const auto output =
+      kdem::fuzz::retarget_edits(before, b.image, std::vector<std::uint8_t>(data, data + size));
+  std::ofstream(output_path, std::ios::binary)
+      .write(reinterpret_cast<const char*>(output.data()), std::streamsize(output.size()));
+  return true;
+}
+
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   Base& b = base();
+  if (retargeted(b, data, size))
+    return 0;
   CheckpointImage edited = b.image;
   const auto touched = kdem::fuzz::apply_edits(edited, data, size);
   kdem::fuzz::write_edited(b.checkpoint_path, edited, touched, b.edited_path);
