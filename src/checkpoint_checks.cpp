@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -244,6 +245,25 @@ void Engine::State::check_restored_particles(const std::string& path) const {
                     " discharged + " + std::to_string(lost_count) + " lost)");
   check_particles(check, particles, next_id, int(scene.materials.size()),
                   int(family_of_shape.size()), int(sources.size()), int(tag_names.size()));
+  // The cell grid of the pair list and the wall bins are sized from largest_radius: below a
+  // particle's radius they would miss pairs and walls within reach, with no error.
+  const auto radius = host_copy(particles.radius);
+  double largest = 0, smallest = std::numeric_limits<double>::infinity();
+  for (long i = 0; i < n; ++i) {
+    largest = std::max(largest, radius(i));
+    smallest = std::min(smallest, radius(i));
+  }
+  const auto text = [](double x) {
+    std::ostringstream out;
+    out << x;
+    return out.str();
+  };
+  check.require(largest_radius >= largest, "largest_radius " + text(largest_radius) +
+                                               " is below the largest particle radius " +
+                                               text(largest));
+  check.require(n == 0 || smallest_radius <= smallest,
+                "smallest_radius " + text(smallest_radius) +
+                    " is above the smallest particle radius " + text(smallest));
 }
 
 void Engine::State::check_restored_lists(const std::string& path) const {

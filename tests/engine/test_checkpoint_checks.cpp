@@ -143,6 +143,22 @@ TEST_F(CheckpointChecks, AWallEntryCountBeyondTheTablesIsRefusedBeforeAnythingIs
   expect_refused("wall_contacts/row_start ends at");
 }
 
+// Found by the checkpoint_reader fuzz target (an input that took 2 s under the sanitizers):
+// largest_radius set to 0 was taken, and the pair list's cells, sized 2 x largest_radius + skin,
+// shrank to the skin: a far larger grid, and pairs within reach but more than one cell apart
+// (the search looks at the 27 cells around a particle) missed without an error.
+TEST_F(CheckpointChecks, ALargestRadiusBelowAParticlesIsRefused) {
+  edit_dataset<double>(path_, "largest_radius", H5T_NATIVE_DOUBLE,
+                       [](std::vector<double>& v) { v[0] = 0; });
+  expect_refused("largest_radius 0 is below the largest particle radius");
+}
+
+TEST_F(CheckpointChecks, ASmallestRadiusAboveAParticlesIsRefused) {
+  edit_dataset<double>(path_, "smallest_radius", H5T_NATIVE_DOUBLE,
+                       [](std::vector<double>& v) { v[0] = 1; });
+  expect_refused("smallest_radius 1 is above the smallest particle radius");
+}
+
 TEST_F(CheckpointChecks, AParticleCountOtherThanTheRowsIsRefused) {
   edit_dataset<std::int64_t>(path_, "particle_count", H5T_NATIVE_INT64,
                              [](std::vector<std::int64_t>& v) { v[0] += 1; });
