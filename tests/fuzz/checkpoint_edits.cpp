@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <limits>
 #include <stdexcept>
+#include <system_error>
 
 #include "hdf5_io.hpp"
 
@@ -408,9 +409,26 @@ CheckpointImage read_image(const std::string& path) {
   return image;
 }
 
+namespace {
+
+// libFuzzer's timers interrupt system calls (SIGALRM), and a copy interrupted that way fails
+// with EINTR: it is tried again.
+void copy_file_retrying(const std::string& from, const std::string& to) {
+  for (int attempt = 1;; ++attempt) {
+    std::error_code error;
+    std::filesystem::copy_file(from, to, std::filesystem::copy_options::overwrite_existing, error);
+    if (!error)
+      return;
+    if (error != std::errc::interrupted || attempt == 100)
+      throw std::filesystem::filesystem_error("cannot copy the checkpoint", from, to, error);
+  }
+}
+
+} // namespace
+
 void write_edited(const std::string& base_path, const CheckpointImage& image,
                   const std::set<std::string>& touched, const std::string& path) {
-  std::filesystem::copy_file(base_path, path, std::filesystem::copy_options::overwrite_existing);
+  copy_file_retrying(base_path, path);
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
   if (file < 0)
     throw std::runtime_error(path + ": cannot open");
