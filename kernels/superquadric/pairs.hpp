@@ -167,12 +167,8 @@ struct SuperquadricPairState {
     return 0.5 * (load3(p.position, i) + load3(p.position, j));
   }
 
-  KOKKOS_INLINE_FUNCTION MidwayState warm_start(int k, int i, int j) const {
-    const int slot = slots.first(k);
-    MidwayState previous;
-    previous.point = load3(point, slot) + centres_midpoint(i, j);
-    previous.multiplier = multiplier(slot);
-    return previous;
+  KOKKOS_INLINE_FUNCTION MidwayState warm_start(int slot, Vec3 midpoint) const {
+    return MidwayState{load3(point, slot) + midpoint, multiplier(slot)};
   }
 
   template <class FamilyI, class FamilyJ>
@@ -187,14 +183,15 @@ struct SuperquadricPairState {
       return F::equivalent_radius(typename F::Table{}, shapes, p, i);
   }
 
-  // Counts the evaluation, keeps its warm start and certificate, and gives the contact with
-  // the normal of the narrow phase's order (from its second body towards its first).
+  // Counts the evaluation, keeps its warm start (relative to `midpoint`, the centres' midpoint)
+  // and certificate, and gives the contact with the normal of the narrow phase's order (from its
+  // second body towards its first).
   KOKKOS_INLINE_FUNCTION PairOutcome record(const PairRef& ref, const NarrowPhaseResult& r,
-                                            double equivalent_radius, PairContacts<1>& found,
-                                            NarrowPhaseTally& tally) const {
+                                            Vec3 midpoint, double equivalent_radius,
+                                            PairContacts<1>& found, NarrowPhaseTally& tally) const {
     tally.add(r);
     const int slot = slots.first(ref.k);
-    store3(point, slot, r.state.point - centres_midpoint(ref.i, ref.j));
+    store3(point, slot, r.state.point - midpoint);
     multiplier(slot) = r.state.multiplier;
     certificates.issue(ref.k, ref.i, ref.j, r.separation);
     if (!r.geometry.touching)
@@ -238,7 +235,7 @@ template <> struct NarrowPhase<SuperquadricFamily, SuperquadricFamily> : Superqu
                                   SuperquadricFamily::pose(table, shapes, p, r.j), start, controls);
     const bool continued = last_multiplier > 0 && result.status == 0;
     store3(step, slot, continued ? result.state.point - midpoint - last : Vec3{0, 0, 0});
-    return record(r, result,
+    return record(r, result, midpoint,
                   pair_equivalent_radius<SuperquadricFamily, SuperquadricFamily>(r.i, r.j), found,
                   tally);
   }
@@ -262,13 +259,14 @@ struct NarrowPhase<SphereFamily, SuperquadricFamily> : SuperquadricPairState, Ev
     }
     if (certificates.still_apart(r.k, r.i, r.j, r.flipped, !r.flipped))
       return PairOutcome::unchanged;
+    const Vec3 midpoint = centres_midpoint(r.i, r.j);
     const NarrowPhaseResult result = sphere_superquadric_contact(
         load3(p.position, r.a), p.radius(r.a), SuperquadricFamily::pose(table, shapes, p, r.b),
-        warm_start(r.k, r.i, r.j), controls);
+        warm_start(slots.first(r.k), midpoint), controls);
     const double radius = r.flipped
                               ? pair_equivalent_radius<SuperquadricFamily, SphereFamily>(r.i, r.j)
                               : pair_equivalent_radius<SphereFamily, SuperquadricFamily>(r.i, r.j);
-    return record(r, result, radius, found, tally);
+    return record(r, result, midpoint, radius, found, tally);
   }
 };
 

@@ -399,18 +399,6 @@ const Dataset* find(const CheckpointImage& image, const std::string& name) {
   return nullptr;
 }
 
-} // namespace
-
-CheckpointImage read_image(const std::string& path) {
-  CheckpointImage image;
-  const Hdf5Reader in(path);
-  for (const std::string& name : dataset_names(path))
-    image.datasets.push_back(read_dataset(in, name, kind_of(path, name)));
-  return image;
-}
-
-namespace {
-
 // libFuzzer's timers interrupt system calls (SIGALRM), and a copy interrupted that way fails
 // with EINTR: it is tried again.
 void copy_file_retrying(const std::string& from, const std::string& to) {
@@ -424,7 +412,22 @@ void copy_file_retrying(const std::string& from, const std::string& to) {
   }
 }
 
+std::vector<DatasetChoice> choices_of(CheckpointImage image,
+                                      const std::vector<std::uint8_t>& input) {
+  std::vector<DatasetChoice> choices;
+  apply_edits(image, input.data(), input.size(), &choices);
+  return choices;
+}
+
 } // namespace
+
+CheckpointImage read_image(const std::string& path) {
+  CheckpointImage image;
+  const Hdf5Reader in(path);
+  for (const std::string& name : dataset_names(path))
+    image.datasets.push_back(read_dataset(in, name, kind_of(path, name)));
+  return image;
+}
 
 void write_edited(const std::string& base_path, const CheckpointImage& image,
                   const std::set<std::string>& touched, const std::string& path) {
@@ -448,17 +451,6 @@ std::set<std::string> apply_edits(CheckpointImage& image, const std::uint8_t* da
     apply_edit(image, bytes, touched, choices);
   return touched;
 }
-
-namespace {
-
-std::vector<DatasetChoice> choices_of(CheckpointImage image,
-                                      const std::vector<std::uint8_t>& input) {
-  std::vector<DatasetChoice> choices;
-  apply_edits(image, input.data(), input.size(), &choices);
-  return choices;
-}
-
-} // namespace
 
 // Each pass rewrites the first choice that differs (the later choices depend on it: a removal
 // changes the names they are chosen among), so that it names the same dataset; the word is its
