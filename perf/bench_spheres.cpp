@@ -118,6 +118,7 @@ struct Options {
   bool rebuild_every_step = false;
   bool unsorted = false;        // particles in a shuffled order, never sorted by cell
   long long mesh_triangles = 0; // > 0: the box as a mesh wall of about this many triangles
+  bool ellipsoid_general_newton = false; // superquadric_contact.ellipsoid_scalar_root: false
   BenchShape shape;
 };
 
@@ -138,7 +139,7 @@ const char* usage =
     "usage: kdem_bench_<backend> --n N --steps M --repeat R [--warmup W] [--out FILE.json]\n"
     "                            [--shape sphere|ellipsoid|cylinder|cube] [--cache-dir DIR]\n"
     "                            [--write-data FILE.data] [--rebuild-every-step] [--unsorted]\n"
-    "                            [--mesh-walls TRIANGLES]\n"
+    "                            [--mesh-walls TRIANGLES] [--ellipsoid-general-newton]\n"
     "Kokkos options (e.g. --kokkos-threads=2) are passed to Kokkos.\n";
 
 Options parse(int argc, char** argv) {
@@ -176,6 +177,8 @@ Options parse(int argc, char** argv) {
       o.unsorted = true;
     else if (w == "--mesh-walls")
       o.mesh_triangles = std::stoll(value());
+    else if (w == "--ellipsoid-general-newton")
+      o.ellipsoid_general_newton = true;
     else if (w == "-h" || w == "--help") {
       std::fputs(usage, stdout);
       std::exit(0);
@@ -530,6 +533,8 @@ int run(const Options& o) {
   auto memory = std::make_optional<kdem::KernelTimer>(false);
   kdem::SceneConfig scene = base_scene(p, o.shape, bed.lo, bed.hi);
   scene.sort_by_cell = !o.unsorted;
+  if (o.ellipsoid_general_newton)
+    kdem::modify_superquadric_contact(scene).ellipsoid_scalar_root = false;
   long long wall_triangles = 0;
   if (o.mesh_triangles > 0) {
     kdem::WallConfig& w = scene.walls[0];

@@ -9,6 +9,7 @@
 // search on |residual|^2 that only accepts steps that decrease it. If that fails, a homotopy
 // morphs both bodies from spheres (where the solution is exact) to the real shapes in stages.
 // The overlap is the chord of the intersection along the normal line through X0.
+#include "ellipsoid_midway.hpp"
 #include "implicit_surface.hpp"
 #include "small_solve.hpp"
 #include "sphere.hpp"
@@ -30,6 +31,9 @@ struct NarrowPhaseControls {
   bool use_fallback = true;
   int homotopy_stages = 4;      // fallback: equal stages from spheres; a failed stage is halved
   int max_homotopy_solves = 24; // Newton solves the fallback may spend in all
+  // Two ellipsoids: the midway point from the scalar root of ellipsoid_midway.hpp, checked by
+  // the general convergence test (and refined by the general Newton where it fails).
+  bool ellipsoid_scalar_root = true;
 };
 
 struct NarrowPhaseResult {
@@ -177,9 +181,15 @@ template <class SurfaceI, class SurfaceJ> struct MidwayProblemOf {
   };
 
   KOKKOS_INLINE_FUNCTION Evaluation evaluate(const Unknowns& u) const {
+    return evaluation_of(u, i.evaluate_with_body_hessian(u.x), j.evaluate_with_body_hessian(u.x));
+  }
+
+  // The evaluation at u of shape functions known there (world gradients, body-frame Hessians).
+  KOKKOS_INLINE_FUNCTION Evaluation evaluation_of(const Unknowns& u, const ShapeFunction& fi,
+                                                  const ShapeFunction& fj) const {
     Evaluation e;
-    e.fi = i.evaluate_with_body_hessian(u.x);
-    e.fj = j.evaluate_with_body_hessian(u.x);
+    e.fi = fi;
+    e.fj = fj;
     const Vec3 g = length * (e.fi.gradient + (u.w * u.w) * e.fj.gradient);
     e.residual = Vector4{{g.x, g.y, g.z, e.fi.value - e.fj.value}};
     e.merit = squared_norm(e.residual);
@@ -504,7 +514,18 @@ superquadric_pair_contact(const PosedSuperquadric& i, const PosedSuperquadric& j
   MidwayProblem::Evaluation e;
   bool solved = false;
   int iterations = 0;
-  if (previous.multiplier > 0) {
+  EllipsoidMidway root;
+  // Two ellipsoids: the scalar root, then the general convergence test on the F and gradients
+  // the root found (its gap test is at least as strict; the normals are opposite to rounding).
+  if (controls.ellipsoid_scalar_root && is_ellipsoid(i.shape) && is_ellipsoid(j.shape) &&
+      ellipsoid_midway(i, j, previous.point, previous.multiplier,
+                       controls.tolerance * problem.length, controls.max_iterations, root,
+                       iterations)) {
+    u = Unknowns{root.point, root.multiplier};
+    e = problem.evaluation_of(u, root.fi, root.fj); // F as the root found it, not evaluated anew
+    solved = newton_solve(problem, u, e, controls.max_iterations, iterations);
+  }
+  if (!solved && previous.multiplier > 0) {
     u = Unknowns{previous.point, previous.multiplier};
     e = problem.evaluate(u);
     solved = newton_solve(problem, u, e, controls.max_iterations, iterations);

@@ -23,6 +23,7 @@ struct SuperquadricContactConfig : FamilySettings {
   bool separation_certificates = true; // skip pairs whose gap bound outlasts their motion
   bool compact_candidates = true;      // scan the box tests' survivors into a dense list
   bool extrapolate_start = true;       // Newton starts from the last point moved by its last step
+  bool ellipsoid_scalar_root = true;   // two ellipsoids: the midway point as a scalar root
   int team_size = 0;                   // lanes per team of the narrow-phase kernels; 0: flat
 };
 

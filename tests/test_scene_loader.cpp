@@ -994,23 +994,31 @@ TEST(SceneShapes, ToleranceOutOfRange) {
                          "expected a Newton tolerance in (0, 1e-2], got \"0.5\""));
 }
 
-TEST(SceneShapes, SeparationCertificatesAreOnByDefaultAndCanBeTurnedOff) {
-  EXPECT_TRUE(kdem::superquadric_contact(load_text(minimal_scene())).separation_certificates);
+// A true/false key of superquadric_contact: on by default, off when set false, and anything
+// else refused with the key's path.
+void expect_switch_on_by_default(const std::string& key,
+                                 bool kdem::SuperquadricContactConfig::*field) {
+  EXPECT_TRUE(kdem::superquadric_contact(load_text(minimal_scene())).*field) << key;
   const SceneConfig scene =
-      load_text(minimal_scene_plus("superquadric_contact: {separation_certificates: false}\n"));
-  EXPECT_FALSE(kdem::superquadric_contact(scene).separation_certificates);
-  EXPECT_TRUE(fails_with(minimal_scene_plus("superquadric_contact: {separation_certificates: 2}\n"),
-                         14, "superquadric_contact.separation_certificates",
-                         "expected true or false"));
+      load_text(minimal_scene_plus("superquadric_contact: {" + key + ": false}\n"));
+  EXPECT_FALSE(kdem::superquadric_contact(scene).*field) << key;
+  EXPECT_TRUE(fails_with(minimal_scene_plus("superquadric_contact: {" + key + ": yes2}\n"), 14,
+                         "superquadric_contact." + key, "expected true or false"));
+}
+
+TEST(SceneShapes, SeparationCertificatesAreOnByDefaultAndCanBeTurnedOff) {
+  expect_switch_on_by_default("separation_certificates",
+                              &kdem::SuperquadricContactConfig::separation_certificates);
 }
 
 TEST(SceneShapes, ExtrapolatedNewtonStartsAreOnByDefaultAndCanBeTurnedOff) {
-  EXPECT_TRUE(kdem::superquadric_contact(load_text(minimal_scene())).extrapolate_start);
-  const SceneConfig scene =
-      load_text(minimal_scene_plus("superquadric_contact: {extrapolate_start: false}\n"));
-  EXPECT_FALSE(kdem::superquadric_contact(scene).extrapolate_start);
-  EXPECT_TRUE(fails_with(minimal_scene_plus("superquadric_contact: {extrapolate_start: yes2}\n"),
-                         14, "superquadric_contact.extrapolate_start", "expected true or false"));
+  expect_switch_on_by_default("extrapolate_start",
+                              &kdem::SuperquadricContactConfig::extrapolate_start);
+}
+
+TEST(SceneShapes, TheEllipsoidScalarRootIsOnByDefaultAndCanBeTurnedOff) {
+  expect_switch_on_by_default("ellipsoid_scalar_root",
+                              &kdem::SuperquadricContactConfig::ellipsoid_scalar_root);
 }
 
 TEST(SceneKeys, SortByCellIsOnByDefault) {
