@@ -2,8 +2,8 @@
 // superquadric_pair_contact on named case sets, evaluated inside Kokkos::parallel_for.
 //
 //   kdem_bench_narrow_phase_<backend> --out FILE.json [--mode hard|sweep|failures]
-//       [--tolerance T] [--max-iterations K] [--no-fallback] [--repeat R]
-//       [--random-pairs N] [--sequences S] [--poses P] [--min-evaluations E]
+//       [--tolerance T] [--max-iterations K] [--no-fallback] [--ellipsoid-general-newton]
+//       [--repeat R] [--random-pairs N] [--sequences S] [--poses P] [--min-evaluations E]
 //       [--failure-pairs F] [--seed SEED] [--kokkos-threads=T]
 //
 // hard:     the hard cases, random pairs and moving pairs (warm and cold) at one setting
@@ -64,8 +64,9 @@ struct Options {
 
 const char* usage =
     "usage: kdem_bench_narrow_phase_<backend> --out FILE.json [--mode hard|sweep|failures]\n"
-    "    [--tolerance T] [--max-iterations K] [--no-fallback] [--repeat R] [--random-pairs N]\n"
-    "    [--sequences S] [--poses P] [--min-evaluations E] [--failure-pairs F] [--seed SEED]\n"
+    "    [--tolerance T] [--max-iterations K] [--no-fallback] [--ellipsoid-general-newton]\n"
+    "    [--repeat R] [--random-pairs N] [--sequences S] [--poses P] [--min-evaluations E]\n"
+    "    [--failure-pairs F] [--seed SEED]\n"
     "Kokkos options (e.g. --kokkos-threads=2) are passed to Kokkos.\n";
 
 using OptionSetter = std::function<void(Options&, const std::string&)>;
@@ -108,6 +109,10 @@ Options parse(int argc, char** argv) {
       continue;
     if (name == "--no-fallback") {
       o.controls.use_fallback = false;
+      continue;
+    }
+    if (name == "--ellipsoid-general-newton") {
+      o.controls.ellipsoid_scalar_root = false;
       continue;
     }
     if (name == "-h" || name == "--help") {
@@ -185,7 +190,8 @@ void evaluate(const DeviceSet& set, const NarrowPhaseControls& controls,
       });
 }
 
-// Cold-started solves at 1e-14, retried at 1e-13 and 1e-12 where they do not converge.
+// Cold-started solves at 1e-14, retried at 1e-13 and 1e-12 where they do not converge; always
+// the general Newton (also for ellipsoids), so that the scalar root is checked against it.
 void evaluate_reference(const DeviceSet& set, Kokkos::View<Outcome*, MemSpace> outcomes) {
   const auto pairs = set.pairs;
   Kokkos::parallel_for(
@@ -194,6 +200,7 @@ void evaluate_reference(const DeviceSet& set, Kokkos::View<Outcome*, MemSpace> o
         NarrowPhaseControls controls;
         controls.max_iterations = 200;
         controls.max_homotopy_solves = 64;
+        controls.ellipsoid_scalar_root = false;
         for (double tolerance = 1e-14; tolerance < 2e-12; tolerance *= 10) {
           controls.tolerance = tolerance;
           outcomes(k) = outcome_of(
@@ -379,7 +386,8 @@ std::string controls_json(const NarrowPhaseControls& c) {
          ", \"max_iterations\": " + std::to_string(c.max_iterations) +
          ", \"use_fallback\": " + (c.use_fallback ? "true" : "false") +
          ", \"homotopy_stages\": " + std::to_string(c.homotopy_stages) +
-         ", \"max_homotopy_solves\": " + std::to_string(c.max_homotopy_solves) + "}";
+         ", \"max_homotopy_solves\": " + std::to_string(c.max_homotopy_solves) +
+         ", \"ellipsoid_scalar_root\": " + (c.ellipsoid_scalar_root ? "true" : "false") + "}";
 }
 
 std::string convergence_json(const Convergence& c) {
