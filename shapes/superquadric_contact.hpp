@@ -320,6 +320,15 @@ struct SurfaceCrossing {
   ShapeFunction at_crossing;
 };
 
+// Whether F is quadratic along every line (an ellipsoid), so that the quadratic model of
+// surface_crossing is F itself and its root is the crossing.
+template <class Surface> KOKKOS_INLINE_FUNCTION bool is_quadric(const Surface&) {
+  return false;
+}
+KOKKOS_INLINE_FUNCTION bool is_quadric(const PosedSuperquadric& body) {
+  return is_ellipsoid(body.shape);
+}
+
 // Newton from the root of the quadratic model of f at s = 0 (at_origin: F, world gradient and
 // body-frame Hessian at the origin, as the midway solve leaves them), which is within
 // O(s^3 / L^2) of the root, so that one Newton step usually ends the search. Steps are clamped
@@ -328,7 +337,7 @@ struct SurfaceCrossing {
 // the rounding of the bracket (`resolution`) or when Newton's error estimate after it,
 // f'' c^2 / (2 f'), is (f'' from the Hessian at the point, so the crossing costs one evaluation
 // with Hessian per step and none after). Searched in the body frame, where a point costs no
-// rotation.
+// rotation. For a quadric the model's root is the crossing, and no evaluation is needed.
 template <class Surface>
 KOKKOS_INLINE_FUNCTION bool surface_crossing(const Surface& body, Vec3 origin, Vec3 direction,
                                              const ShapeFunction& at_origin,
@@ -339,10 +348,19 @@ KOKKOS_INLINE_FUNCTION bool surface_crossing(const Surface& body, Vec3 origin, V
   double hi = norm(local_origin) + body.reach();
   const double max_step = 0.5 * body.smallest_length();
   const double resolution = 4.0 * double_epsilon * (hi + body.smallest_length());
-  double x =
-      math::min(quadratic_model_root(at_origin.value, dot(at_origin.gradient, direction),
-                                     dot(local_direction, at_origin.hessian * local_direction)),
-                hi);
+  const Vec3 hessian_direction = at_origin.hessian * local_direction;
+  double x = math::min(quadratic_model_root(at_origin.value, dot(at_origin.gradient, direction),
+                                            dot(local_direction, hessian_direction)),
+                       hi);
+  if (is_quadric(body) && x > 0 && x < hi) {
+    // Exact to rounding: on the surface, gradient g(0) + x H d and the constant Hessian.
+    crossing.distance = x;
+    crossing.at_crossing.value = 0;
+    crossing.at_crossing.gradient =
+        transpose(body.rotation) * at_origin.gradient + x * hessian_direction;
+    crossing.at_crossing.hessian = at_origin.hessian;
+    return true;
+  }
   for (int iteration = 0; iteration < max_surface_iterations; ++iteration) {
     const ShapeFunction f = body.template local<true>(local_origin + x * local_direction);
     crossing.at_crossing = f;
