@@ -116,8 +116,8 @@ struct Options {
   std::string cache_dir = "perf/cache";
   std::string write_data;
   bool rebuild_every_step = false;
-  bool unsorted = false;        // particles in a shuffled order, never sorted by cell
-  long long mesh_triangles = 0; // > 0: the box as a mesh wall of about this many triangles
+  bool unsorted = false;                 // particles in a shuffled order, never sorted by cell
+  long long mesh_triangles = 0;          // > 0: the box as a mesh wall of about this many triangles
   bool ellipsoid_general_newton = false; // superquadric_contact.ellipsoid_scalar_root: false
   BenchShape shape;
 };
