@@ -119,6 +119,7 @@ struct Options {
   bool unsorted = false;                 // particles in a shuffled order, never sorted by cell
   long long mesh_triangles = 0;          // > 0: the box as a mesh wall of about this many triangles
   bool ellipsoid_general_newton = false; // superquadric_contact.ellipsoid_scalar_root: false
+  bool no_box_certificates = false;      // superquadric_contact.box_certificates: false
   BenchShape shape;
 };
 
@@ -140,6 +141,7 @@ const char* usage =
     "                            [--shape sphere|ellipsoid|cylinder|cube] [--cache-dir DIR]\n"
     "                            [--write-data FILE.data] [--rebuild-every-step] [--unsorted]\n"
     "                            [--mesh-walls TRIANGLES] [--ellipsoid-general-newton]\n"
+    "                            [--no-box-certificates]\n"
     "Kokkos options (e.g. --kokkos-threads=2) are passed to Kokkos.\n";
 
 Options parse(int argc, char** argv) {
@@ -179,6 +181,8 @@ Options parse(int argc, char** argv) {
       o.mesh_triangles = std::stoll(value());
     else if (w == "--ellipsoid-general-newton")
       o.ellipsoid_general_newton = true;
+    else if (w == "--no-box-certificates")
+      o.no_box_certificates = true;
     else if (w == "-h" || w == "--help") {
       std::fputs(usage, stdout);
       std::exit(0);
@@ -535,6 +539,8 @@ int run(const Options& o) {
   scene.sort_by_cell = !o.unsorted;
   if (o.ellipsoid_general_newton)
     kdem::modify_superquadric_contact(scene).ellipsoid_scalar_root = false;
+  if (o.no_box_certificates)
+    kdem::modify_superquadric_contact(scene).box_certificates = false;
   long long wall_triangles = 0;
   if (o.mesh_triangles > 0) {
     kdem::WallConfig& w = scene.walls[0];

@@ -42,8 +42,8 @@ std::shared_ptr<const FamilyShapeParameters> read_superquadric(const Value& valu
 
 std::shared_ptr<const FamilySettings> read_superquadric_contact(const Value& value) {
   const Mapping map(value, {"tolerance", "max_iterations", "curvature_limit",
-                            "separation_certificates", "compact_candidates", "extrapolate_start",
-                            "ellipsoid_scalar_root", "team_size"});
+                            "separation_certificates", "box_certificates", "compact_candidates",
+                            "extrapolate_start", "ellipsoid_scalar_root", "team_size"});
   auto settings = std::make_shared<SuperquadricContactConfig>();
   SuperquadricContactConfig& config = *settings;
   if (auto value_found = map.find("tolerance"))
@@ -56,6 +56,8 @@ std::shared_ptr<const FamilySettings> read_superquadric_contact(const Value& val
         number_where(*value_found, "a factor >= 1", [](double f) { return f >= 1; });
   if (auto value_found = map.find("separation_certificates"))
     config.separation_certificates = boolean(*value_found);
+  if (auto value_found = map.find("box_certificates"))
+    config.box_certificates = boolean(*value_found);
   if (auto value_found = map.find("compact_candidates"))
     config.compact_candidates = boolean(*value_found);
   if (auto value_found = map.find("extrapolate_start"))

@@ -21,6 +21,7 @@ struct SuperquadricContactConfig : FamilySettings {
   int max_iterations = 0;     // Newton iteration cap; 0: the engine's default
   double curvature_limit = 2; // R* from curvature is kept within [1/limit, limit] x R*_volume
   bool separation_certificates = true; // skip pairs whose gap bound outlasts their motion
+  bool box_certificates = true;        // the box test's gap is a certificate too
   bool compact_candidates = true;      // scan the box tests' survivors into a dense list
   bool extrapolate_start = true;       // Newton starts from the last point moved by its last step
   bool ellipsoid_scalar_root = true;   // two ellipsoids: the midway point as a scalar root

@@ -37,6 +37,7 @@ SuperquadricContactSettings device_settings(const FamilySettings* scene_settings
   SuperquadricContactSettings settings;
   settings.curvature_limit = config.curvature_limit;
   settings.separation_certificates = config.separation_certificates;
+  settings.box_certificates = config.box_certificates;
   settings.compact_candidates = config.compact_candidates;
   settings.extrapolate_start = config.extrapolate_start;
   settings.newton.ellipsoid_scalar_root = config.ellipsoid_scalar_root;

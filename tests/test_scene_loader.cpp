@@ -1011,6 +1011,11 @@ TEST(SceneShapes, SeparationCertificatesAreOnByDefaultAndCanBeTurnedOff) {
                               &kdem::SuperquadricContactConfig::separation_certificates);
 }
 
+TEST(SceneShapes, BoxCertificatesAreOnByDefaultAndCanBeTurnedOff) {
+  expect_switch_on_by_default("box_certificates",
+                              &kdem::SuperquadricContactConfig::box_certificates);
+}
+
 TEST(SceneShapes, ExtrapolatedNewtonStartsAreOnByDefaultAndCanBeTurnedOff) {
   expect_switch_on_by_default("extrapolate_start",
                               &kdem::SuperquadricContactConfig::extrapolate_start);

@@ -17,6 +17,7 @@ struct SuperquadricContactSettings {
   NarrowPhaseControls newton;
   double curvature_limit = 2;
   bool separation_certificates = true; // see SeparationCertificates
+  bool box_certificates = true;        // the box test's gap certifies too (needs the above)
   bool compact_candidates = true;      // see superquadric_pairs_in_reach
   bool extrapolate_start = true;       // see NarrowPhase<SuperquadricFamily, SuperquadricFamily>
   int team_size = 0;                   // of the narrow-phase kernel, see reduce_over_items

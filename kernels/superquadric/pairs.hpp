@@ -2,8 +2,9 @@
 // The pair types with superquadrics, as narrow-phase functors of the one pair loop
 // (families/pair_loop.hpp):
 //   superquadric-superquadric: exact bounding-sphere test, the separation certificate of the
-//     last steps (SeparationCertificates), then the oriented-box test (its last separating axis
-//     is tried first; skipped for pairs that touched at the last step), survivors compacted
+//     last steps (SeparationCertificates, issued by the narrow phase or by the box test), then
+//     the oriented-box test (its last separating axis is tried first; skipped for pairs that
+//     touched at the last step), survivors compacted
 //     with a scan, then the midway-point Newton narrow phase on the compacted list only, so
 //     that no lane idles in the expensive kernel for pairs that the cheap tests rule out;
 //   sphere-superquadric: the closest-point narrow phase, on the candidate pairs of that type
@@ -30,11 +31,12 @@ KOKKOS_INLINE_FUNCTION double curvature_radius(double curvature_i, double curvat
   return math::clamp(1.0 / curvature, lowest, highest);
 }
 
-// Separation certificates: a pair that did not touch gets a lower bound G on its gap
-// (NarrowPhaseResult::separation) with its centre offset and the turned angles of both bodies at
-// that step. A point of body i moves by at most |delta x_i| + theta_i r_i (theta_i the angle it
-// turned since, r_i its bounding radius; turning a sphere moves none of its surface), so while
-// |delta (x_j - x_i)| + theta_i r_i + theta_j r_j < G the pair cannot touch: it skips the box
+// Separation certificates: a pair that did not touch gets a lower bound G on its gap (the
+// narrow phase's NarrowPhaseResult::separation, or the gap of its bounding boxes along the axis
+// that separated them, oriented_boxes_gap) with its centre offset and the turned angles of both
+// bodies at that step. A point of body i moves by at most |delta x_i| + theta_i r_i (theta_i the
+// angle it turned since, r_i its bounding radius; turning a sphere moves none of its surface), so
+// while |delta (x_j - x_i)| + theta_i r_i + theta_j r_j < G the pair cannot touch: it skips the box
 // test and the narrow phase and keeps its warm start.
 struct SeparationCertificates {
   ParticleViews p;
@@ -80,7 +82,8 @@ inline PairsToEvaluate superquadric_pairs_in_reach(const ParticleViews& p,
                                                    const SuperquadricFamily::Table& table,
                                                    const ShapeFamilies& shapes,
                                                    const PairList& list, PairTypeRows& type_rows,
-                                                   bool use_certificates, bool compact) {
+                                                   bool use_certificates, bool box_certificates,
+                                                   bool compact) {
   const RowSet rows = type_rows.rows;
   const int candidates = rows.count;
   if (int(type_rows.passes.extent(0)) != candidates) {
@@ -107,18 +110,23 @@ inline PairsToEvaluate superquadric_pairs_in_reach(const ParticleViews& p,
         }
         // Pairs that touched at the last step almost surely still do: the box test is skipped
         // for them (the book's suggestion, Sect. 2.2.1); the narrow phase decides.
+        double box_gap = 0;
         if (near && overlap(contact_slots.first(k)) == 0) {
           int hint = axis(k);
-          near =
-              oriented_boxes_overlap(SuperquadricFamily::oriented_box(table, shapes, p, i),
-                                     SuperquadricFamily::oriented_box(table, shapes, p, j), hint);
+          box_gap = oriented_boxes_gap(SuperquadricFamily::oriented_box(table, shapes, p, i),
+                                       SuperquadricFamily::oriented_box(table, shapes, p, j), hint);
           axis(k) = hint;
+          near = !(box_gap > 0);
         }
         passes(m) = near ? 1 : 0;
         if (!near) {
           slots.clear(k);
           multiplier(contact_slots.first(k)) = 0;
-          certificates.revoke(k);
+          // The boxes' gap bounds the bodies' gap: the pair skips its box test while it holds.
+          if (box_certificates && box_gap > 0)
+            certificates.issue(k, i, j, box_gap);
+          else
+            certificates.revoke(k);
         }
       });
   if (!compact)
@@ -212,9 +220,9 @@ template <> struct NarrowPhase<SuperquadricFamily, SuperquadricFamily> : Superqu
   explicit NarrowPhase(const ContactContext& c) : SuperquadricPairState(c) {}
 
   PairsToEvaluate select(const ContactContext& c, PairTypeRows& type_rows) const {
-    return superquadric_pairs_in_reach(p, table, shapes, c.pairs, type_rows,
-                                       table.settings.separation_certificates,
-                                       table.settings.compact_candidates);
+    return superquadric_pairs_in_reach(
+        p, table, shapes, c.pairs, type_rows, table.settings.separation_certificates,
+        table.settings.box_certificates, table.settings.compact_candidates);
   }
 
   // The Newton start is the last midway point moved on by its last step (relative to the

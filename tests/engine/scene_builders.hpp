@@ -149,10 +149,7 @@ inline double largest_position_difference(const RunOutcome& a, const RunOutcome&
   return largest;
 }
 
-inline RunOutcome run_steps(const SceneConfig& scene, int steps) {
-  Engine engine(scene);
-  for (int k = 0; k < steps; ++k)
-    engine.step();
+inline RunOutcome outcome_of(const Engine& engine) {
   RunOutcome outcome;
   const ParticleSnapshot s = engine.snapshot();
   for (std::size_t i = 0; i < s.id.size(); ++i)
@@ -162,6 +159,13 @@ inline RunOutcome run_steps(const SceneConfig& scene, int steps) {
   if (!s.radius.empty())
     outcome.smallest_radius = *std::min_element(s.radius.begin(), s.radius.end());
   return outcome;
+}
+
+inline RunOutcome run_steps(const SceneConfig& scene, int steps) {
+  Engine engine(scene);
+  for (int k = 0; k < steps; ++k)
+    engine.step();
+  return outcome_of(engine);
 }
 
 } // namespace kdem::testing
