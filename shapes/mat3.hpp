@@ -53,6 +53,13 @@ KOKKOS_INLINE_FUNCTION Mat3 transpose(const Mat3& a) {
   return t;
 }
 
+// transpose(a) * v without forming the transpose (the same operations in the same order).
+KOKKOS_INLINE_FUNCTION Vec3 transpose_times(const Mat3& a, Vec3 v) {
+  return {a.m[0][0] * v.x + a.m[1][0] * v.y + a.m[2][0] * v.z,
+          a.m[0][1] * v.x + a.m[1][1] * v.y + a.m[2][1] * v.z,
+          a.m[0][2] * v.x + a.m[1][2] * v.y + a.m[2][2] * v.z};
+}
+
 KOKKOS_INLINE_FUNCTION double trace(const Mat3& a) {
   return a.m[0][0] + a.m[1][1] + a.m[2][2];
 }

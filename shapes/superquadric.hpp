@@ -204,7 +204,9 @@ struct PosedSuperquadric {
   Vec3 centre;
   Mat3 rotation; // columns are the body axes in world coordinates
 
-  KOKKOS_INLINE_FUNCTION Vec3 to_local(Vec3 x) const { return transpose(rotation) * (x - centre); }
+  KOKKOS_INLINE_FUNCTION Vec3 to_local(Vec3 x) const {
+    return transpose_times(rotation, x - centre);
+  }
   KOKKOS_INLINE_FUNCTION Vec3 to_world(Vec3 local) const { return centre + rotation * local; }
   // The surface concept of the narrow-phase numerics (shapes/implicit_surface.hpp).
   template <bool WithHessian> KOKKOS_INLINE_FUNCTION ShapeFunction local(Vec3 x_local) const {

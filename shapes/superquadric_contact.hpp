@@ -343,7 +343,7 @@ KOKKOS_INLINE_FUNCTION bool surface_crossing(const Surface& body, Vec3 origin, V
                                              const ShapeFunction& at_origin,
                                              SurfaceCrossing& crossing) {
   const Vec3 local_origin = body.to_local(origin);
-  const Vec3 local_direction = transpose(body.rotation) * direction;
+  const Vec3 local_direction = transpose_times(body.rotation, direction);
   double lo = 0;
   double hi = norm(local_origin) + body.reach();
   const double max_step = 0.5 * body.smallest_length();
@@ -357,7 +357,7 @@ KOKKOS_INLINE_FUNCTION bool surface_crossing(const Surface& body, Vec3 origin, V
     crossing.distance = x;
     crossing.at_crossing.value = 0;
     crossing.at_crossing.gradient =
-        transpose(body.rotation) * at_origin.gradient + x * hessian_direction;
+        transpose_times(body.rotation, at_origin.gradient) + x * hessian_direction;
     crossing.at_crossing.hessian = at_origin.hessian;
     return true;
   }
@@ -518,6 +518,23 @@ KOKKOS_INLINE_FUNCTION Vec3 radial_projection(const PosedSuperquadric& body, Vec
   return body.to_world(math::pow(g, -1.0 / s.n1) * local);
 }
 
+// Two ellipsoids: the scalar root of ellipsoid_midway.hpp, then the general convergence test on
+// the F and gradients the root found (its gap test is at least as strict; the normals are
+// opposite to rounding). False where the root is not found or the test fails.
+KOKKOS_INLINE_FUNCTION bool ellipsoid_pair_solve(const MidwayProblem& problem,
+                                                 const MidwayState& previous,
+                                                 const NarrowPhaseControls& controls, Unknowns& u,
+                                                 MidwayProblem::Evaluation& e, int& iterations) {
+  EllipsoidMidway root;
+  if (!ellipsoid_midway(problem.i, problem.j, previous.point, previous.multiplier,
+                        controls.tolerance * problem.length, controls.max_iterations, root,
+                        iterations))
+    return false;
+  u = Unknowns{root.point, root.multiplier};
+  e = problem.evaluation_of(u, root.fi, root.fj); // F as the root found it, not evaluated anew
+  return newton_solve(problem, u, e, controls.max_iterations, iterations);
+}
+
 } // namespace narrow_phase
 
 KOKKOS_INLINE_FUNCTION NarrowPhaseResult
@@ -530,19 +547,9 @@ superquadric_pair_contact(const PosedSuperquadric& i, const PosedSuperquadric& j
   // without one or when Newton from it fails.
   Unknowns u;
   MidwayProblem::Evaluation e;
-  bool solved = false;
   int iterations = 0;
-  EllipsoidMidway root;
-  // Two ellipsoids: the scalar root, then the general convergence test on the F and gradients
-  // the root found (its gap test is at least as strict; the normals are opposite to rounding).
-  if (controls.ellipsoid_scalar_root && is_ellipsoid(i.shape) && is_ellipsoid(j.shape) &&
-      ellipsoid_midway(i, j, previous.point, previous.multiplier,
-                       controls.tolerance * problem.length, controls.max_iterations, root,
-                       iterations)) {
-    u = Unknowns{root.point, root.multiplier};
-    e = problem.evaluation_of(u, root.fi, root.fj); // F as the root found it, not evaluated anew
-    solved = newton_solve(problem, u, e, controls.max_iterations, iterations);
-  }
+  bool solved = controls.ellipsoid_scalar_root && is_ellipsoid(i.shape) && is_ellipsoid(j.shape) &&
+                ellipsoid_pair_solve(problem, previous, controls, u, e, iterations);
   if (!solved && previous.multiplier > 0) {
     u = Unknowns{previous.point, previous.multiplier};
     e = problem.evaluate(u);

@@ -32,7 +32,7 @@ constexpr double rotation_rounding = 1e-14;
 
 template <class Surface>
 KOKKOS_INLINE_FUNCTION Vec3 direction_to_local(const Surface& p, Vec3 world) {
-  Vec3 local = transpose(p.rotation) * world;
+  Vec3 local = transpose_times(p.rotation, world);
   const double largest =
       math::max(math::fabs(local.x), math::max(math::fabs(local.y), math::fabs(local.z)));
   const double noise = rotation_rounding * largest;
