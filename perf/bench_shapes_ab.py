@@ -3,8 +3,9 @@
 (perf/bench_spheres.cpp --shape S) at one N, OpenMP with a given number of threads, program A
 and program B in turn in each round, every shape in the same session. Reports per shape and
 program the median particle-steps per second over the rounds (each run itself the median of
---repeat timed runs), the cost of a particle-step relative to the sphere bed of the same
-program, and B's gain over A.
+--repeat timed runs) and the rate of the fastest timed run (which a disturbance of the machine
+can only slow), the cost of a particle-step relative to the sphere bed of the same program, and
+B's gain over A (by medians, by fastest runs, and per round).
 
     /usr/bin/python3 perf/bench_shapes_ab.py --a OLD/bin/kdem_bench_openmp \\
         --b build/openmp/bin/kdem_bench_openmp --label-a before --label-b after \\
@@ -12,7 +13,8 @@ program, and B's gain over A.
 
 The beds are settled once (the first program to need one) and cached in --cache-dir, so both
 programs start from the same bed. One program with and without a setting: --a and --b the same,
---extra-a or --extra-b its options (e.g. --extra-a=--pair-types).
+--extra-a or --extra-b its options (e.g. --extra-a=--pair-types). --summarize FILE.json
+recomputes the summary of an earlier results file.
 """
 
 import argparse
@@ -41,27 +43,72 @@ def one_run(binary, shape, n, args, extra):
     return record
 
 
+def fastest_rate(runs):
+    """Particle-steps per second of the fastest timed run: a disturbance of the machine can only
+    slow a run, so on a noisy machine this scatters less than the median."""
+    return max(r["n"] * r["steps"] / min(r["times_s"]) for r in runs)
+
+
 def summary(runs, labels, shapes):
-    medians = {label: {shape: statistics.median(r["particle_steps_per_s"] for r in runs
-                                                if r["label"] == label and r["shape"] == shape)
+    def of(label, shape):
+        return [r for r in runs if r["label"] == label and r["shape"] == shape]
+
+    medians = {label: {shape: statistics.median(r["particle_steps_per_s"] for r in of(label, shape))
                        for shape in shapes} for label in labels}
+    fastest = {label: {shape: fastest_rate(of(label, shape)) for shape in shapes}
+               for label in labels}
     rows = []
     for shape in shapes:
         row = {"shape": shape}
         for label in labels:
-            rate = medians[label][shape]
-            row[label] = {"particle_steps_per_s": rate}
+            row[label] = {"particle_steps_per_s": medians[label][shape],
+                          "fastest_particle_steps_per_s": fastest[label][shape]}
             if "sphere" in shapes:
-                row[label]["cost_relative_to_sphere"] = medians[label]["sphere"] / rate
+                row[label]["cost_relative_to_sphere"] = medians[label]["sphere"] / medians[label][shape]
+                row[label]["fastest_cost_relative_to_sphere"] = (
+                    fastest[label]["sphere"] / fastest[label][shape])
         row["gain_b_over_a"] = medians[labels[1]][shape] / medians[labels[0]][shape]
+        row["gain_b_over_a_fastest"] = fastest[labels[1]][shape] / fastest[labels[0]][shape]
+        a_rounds = {r["round"]: r["particle_steps_per_s"] for r in of(labels[0], shape)}
+        row["gain_b_over_a_per_round"] = [r["particle_steps_per_s"] / a_rounds[r["round"]]
+                                          for r in of(labels[1], shape) if r["round"] in a_rounds]
         rows.append(row)
     return rows
 
 
+def print_summary(result):
+    for row in result["summary"]:
+        cells = "  ".join(f"{label} {row[label]['particle_steps_per_s']:.3g}/s"
+                          + (f" ({row[label]['cost_relative_to_sphere']:.2f} x sphere)"
+                             if "cost_relative_to_sphere" in row[label] else "")
+                          for label in result["labels"])
+        print(f"{row['shape']:9s} {cells}  gain {row['gain_b_over_a']:.3f} "
+              f"(fastest runs: {row['gain_b_over_a_fastest']:.3f})")
+
+
+def write_json(result, path):
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_suffix(path.suffix + ".tmp")
+    tmp.write_text(json.dumps(result, indent=1) + "\n")
+    tmp.replace(path)
+
+
+def summarize_again(path):
+    """Recomputes the summary of a results file from its runs (after a change of the summary)."""
+    result = json.loads(path.read_text())
+    shapes = list(dict.fromkeys(r["shape"] for r in result["runs"]))
+    result["summary"] = summary(result["runs"], result["labels"], shapes)
+    write_json(result, path)
+    print_summary(result)
+    return 0
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--a", required=True, help="kdem_bench_openmp program A")
-    parser.add_argument("--b", required=True, help="kdem_bench_openmp program B")
+    parser.add_argument("--summarize", metavar="FILE.json",
+                        help="only recompute the summary of an existing results file")
+    parser.add_argument("--a", help="kdem_bench_openmp program A")
+    parser.add_argument("--b", help="kdem_bench_openmp program B")
     parser.add_argument("--label-a", default="a")
     parser.add_argument("--label-b", default="b")
     parser.add_argument("--extra-a", default="", help="further options of program A, one string")
@@ -72,9 +119,13 @@ def main():
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--repeat", type=int, default=3, help="timed runs per program run")
     parser.add_argument("--cache-dir", default=str(bench_scaling.CACHE_DIR))
-    parser.add_argument("--json", required=True, help="write the runs and the summary here")
+    parser.add_argument("--json", help="write the runs and the summary here")
     run_bench.add_quiet_arguments(parser)
     args = parser.parse_args()
+    if args.summarize:
+        return summarize_again(Path(args.summarize))
+    if not (args.a and args.b and args.json):
+        parser.error("--a, --b and --json are required (or --summarize FILE.json)")
     programs = {args.label_a: Path(args.a).resolve(), args.label_b: Path(args.b).resolve()}
     extras = {args.label_a: args.extra_a.split(), args.label_b: args.extra_b.split()}
     n = int(args.n)
@@ -94,17 +145,8 @@ def main():
                                                                   programs.items()},
               "extra_options": extras,
               "summary": summary(runs, [args.label_a, args.label_b], args.shapes), "runs": runs}
-    path = Path(args.json)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_suffix(path.suffix + ".tmp")
-    tmp.write_text(json.dumps(result, indent=1) + "\n")
-    tmp.replace(path)
-    for row in result["summary"]:
-        cells = "  ".join(f"{label} {row[label]['particle_steps_per_s']:.3g}/s"
-                          + (f" ({row[label]['cost_relative_to_sphere']:.2f} x sphere)"
-                             if "cost_relative_to_sphere" in row[label] else "")
-                          for label in result["labels"])
-        print(f"{row['shape']:9s} {cells}  gain {row['gain_b_over_a']:.3f}")
+    write_json(result, Path(args.json))
+    print_summary(result)
     return 0
 
 
