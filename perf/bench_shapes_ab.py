@@ -64,7 +64,8 @@ def summary(runs, labels, shapes):
             row[label] = {"particle_steps_per_s": medians[label][shape],
                           "fastest_particle_steps_per_s": fastest[label][shape]}
             if "sphere" in shapes:
-                row[label]["cost_relative_to_sphere"] = medians[label]["sphere"] / medians[label][shape]
+                row[label]["cost_relative_to_sphere"] = (
+                    medians[label]["sphere"] / medians[label][shape])
                 row[label]["fastest_cost_relative_to_sphere"] = (
                     fastest[label]["sphere"] / fastest[label][shape])
         row["gain_b_over_a"] = medians[labels[1]][shape] / medians[labels[0]][shape]

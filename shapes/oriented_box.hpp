@@ -63,53 +63,40 @@ KOKKOS_INLINE_FUNCTION ObbPair make_obb_pair(const OrientedBox& i, const Oriente
   return p;
 }
 
-// The projections of the two boxes on one numbered axis L (not normalised): |offset . L| and
-// the sum of the boxes' half-widths along L, and |L|^2 (1 for the face axes).
-struct ObbProjection {
-  double distance = 0, reach = 0, axis_length2 = 1;
-};
-
-KOKKOS_INLINE_FUNCTION ObbProjection obb_projection(const ObbPair& p, int axis) {
+// The gap between the projections of the two boxes on one numbered axis L, less the margin, in
+// length units (divided by |L|, which is 1 for the face axes): a lower bound on the distance
+// between any point of one box and any of the other. 0 where the projections are not farther
+// apart than the margin, and for cross axes of near-parallel edges.
+KOKKOS_INLINE_FUNCTION double obb_gap_along(const ObbPair& p, int axis) {
   const double(*r)[3] = p.rotation;
   const double(*abs_r)[3] = p.abs_rotation;
   const double* t = p.offset;
   const double* ei = p.extent_i;
   const double* ej = p.extent_j;
-  ObbProjection s;
+  double distance, reach, axis_length2 = 1;
   if (axis < 3) {
     const int k = axis;
-    s.distance = math::fabs(t[k]);
-    s.reach = ei[k] + ej[0] * abs_r[k][0] + ej[1] * abs_r[k][1] + ej[2] * abs_r[k][2];
+    distance = math::fabs(t[k]);
+    reach = ei[k] + ej[0] * abs_r[k][0] + ej[1] * abs_r[k][1] + ej[2] * abs_r[k][2];
   } else if (axis < 6) {
     const int l = axis - 3;
-    s.distance = math::fabs(t[0] * r[0][l] + t[1] * r[1][l] + t[2] * r[2][l]);
-    s.reach = ei[0] * abs_r[0][l] + ei[1] * abs_r[1][l] + ei[2] * abs_r[2][l] + ej[l];
+    distance = math::fabs(t[0] * r[0][l] + t[1] * r[1][l] + t[2] * r[2][l]);
+    reach = ei[0] * abs_r[0][l] + ei[1] * abs_r[1][l] + ei[2] * abs_r[2][l] + ej[l];
   } else {
     // L = A_k x B_l = r[k1][l] A_k2 - r[k2][l] A_k1 for the cyclic order (k, k1, k2); the
     // projections of B_l1 and B_l2 on L are A_k . (B_l x B_l1) = A_k . B_l2 and the like.
     const int k = (axis - 6) / 3, l = (axis - 6) % 3;
     const int k1 = (k + 1) % 3, k2 = (k + 2) % 3, l1 = (l + 1) % 3, l2 = (l + 2) % 3;
-    s.axis_length2 = r[k1][l] * r[k1][l] + r[k2][l] * r[k2][l];
-    s.distance = math::fabs(t[k2] * r[k1][l] - t[k1] * r[k2][l]);
-    s.reach = ei[k1] * abs_r[k2][l] + ei[k2] * abs_r[k1][l] + ej[l1] * abs_r[k][l2] +
-              ej[l2] * abs_r[k][l1];
+    axis_length2 = r[k1][l] * r[k1][l] + r[k2][l] * r[k2][l];
+    if (axis_length2 < obb_min_cross_length2)
+      return 0;
+    distance = math::fabs(t[k2] * r[k1][l] - t[k1] * r[k2][l]);
+    reach = ei[k1] * abs_r[k2][l] + ei[k2] * abs_r[k1][l] + ej[l1] * abs_r[k][l2] +
+            ej[l2] * abs_r[k][l1];
   }
-  return s;
-}
-
-// Whether the projections of the two boxes on one numbered axis are disjoint.
-KOKKOS_INLINE_FUNCTION bool obb_separated_along(const ObbPair& p, int axis) {
-  const ObbProjection s = obb_projection(p, axis);
-  if (axis >= 6 && s.axis_length2 < obb_min_cross_length2)
-    return false;
-  return s.distance > s.reach + p.margin;
-}
-
-// The gap between the projections on an axis that separates the boxes, less the margin, in
-// length units: a lower bound on the distance between any point of one box and any of the other.
-KOKKOS_INLINE_FUNCTION double obb_gap_along(const ObbPair& p, int axis) {
-  const ObbProjection s = obb_projection(p, axis);
-  return (s.distance - s.reach - p.margin) / math::sqrt(s.axis_length2);
+  // Positive exactly when distance > reach + margin (a rounded difference keeps its sign).
+  const double excess = distance - (reach + p.margin);
+  return excess > 0 ? excess / math::sqrt(axis_length2) : 0.0;
 }
 
 // Separating-axis test of boxes i and j, with a lower bound on their distance: positive when an
@@ -120,13 +107,18 @@ KOKKOS_INLINE_FUNCTION double oriented_boxes_gap(const OrientedBox& i, const Ori
                                                  int& separating_axis) {
   const ObbPair pair = make_obb_pair(i, j);
   const int previous = separating_axis;
-  if (previous >= 0 && previous < obb_axis_count && obb_separated_along(pair, previous))
-    return obb_gap_along(pair, previous);
-  for (int axis = 0; axis < obb_axis_count; ++axis)
-    if (axis != previous && obb_separated_along(pair, axis)) {
+  if (previous >= 0 && previous < obb_axis_count) {
+    const double gap = obb_gap_along(pair, previous);
+    if (gap > 0)
+      return gap;
+  }
+  for (int axis = 0; axis < obb_axis_count; ++axis) {
+    const double gap = axis != previous ? obb_gap_along(pair, axis) : 0.0;
+    if (gap > 0) {
       separating_axis = axis;
-      return obb_gap_along(pair, axis);
+      return gap;
     }
+  }
   separating_axis = -1;
   return 0;
 }

@@ -14,6 +14,7 @@
 #include <limits>
 #include <vector>
 
+#include "checkpoint_test_support.hpp"
 #include "scene_builders.hpp"
 
 namespace kdem {
@@ -27,11 +28,8 @@ void edit_dataset(const std::string& path, const std::string& name, hid_t memory
   ASSERT_GE(file, 0) << path;
   const hid_t dataset = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
   ASSERT_GE(dataset, 0) << name;
-  const hid_t space = H5Dget_space(dataset);
-  std::vector<Value> values(std::size_t(H5Sget_simple_extent_npoints(space)));
-  H5Sclose(space);
-  ASSERT_FALSE(values.empty()) << name << " is empty";
-  ASSERT_GE(H5Dread(dataset, memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), 0);
+  std::vector<Value> values = testing::read_whole_dataset<Value>(dataset, memory_type);
+  ASSERT_FALSE(values.empty()) << name << " is empty or unreadable";
   edit(values);
   EXPECT_GE(H5Dwrite(dataset, memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), 0);
   H5Dclose(dataset);
@@ -43,10 +41,7 @@ void rewrite_with_columns(const std::string& path, const std::string& name, hsiz
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
   ASSERT_GE(file, 0);
   const hid_t old = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
-  const hid_t space = H5Dget_space(old);
-  std::vector<double> values(std::size_t(H5Sget_simple_extent_npoints(space)));
-  H5Dread(old, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
-  H5Sclose(space);
+  const std::vector<double> values = testing::read_whole_dataset<double>(old, H5T_NATIVE_DOUBLE);
   H5Dclose(old);
   H5Ldelete(file, name.c_str(), H5P_DEFAULT);
   const hsize_t dims[2] = {values.size() / columns, columns};

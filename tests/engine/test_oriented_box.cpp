@@ -125,8 +125,12 @@ Vec3 box_point(const OrientedBox& b, Vec3 unit_cube_point) {
   return b.centre + b.rotation * local;
 }
 
+Vec3 box_local(const OrientedBox& b, Vec3 x) {
+  return transpose_times(b.rotation, x - b.centre);
+}
+
 bool inside(const OrientedBox& b, Vec3 x) {
-  const Vec3 local = transpose(b.rotation) * (x - b.centre);
+  const Vec3 local = box_local(b, x);
   return std::fabs(local.x) <= b.half_extent.x && std::fabs(local.y) <= b.half_extent.y &&
          std::fabs(local.z) <= b.half_extent.z;
 }
@@ -191,7 +195,7 @@ TEST(OrientedBoxGap, AnEdgeTurnedTowardsAFaceIsApartByTheDistanceToTheEdge) {
 
 // The point of the box nearest to x (x itself inside): clamped in the box frame.
 double distance_to_box(const OrientedBox& b, Vec3 x) {
-  const Vec3 local = transpose(b.rotation) * (x - b.centre);
+  const Vec3 local = box_local(b, x);
   const Vec3 nearest{std::clamp(local.x, -b.half_extent.x, b.half_extent.x),
                      std::clamp(local.y, -b.half_extent.y, b.half_extent.y),
                      std::clamp(local.z, -b.half_extent.z, b.half_extent.z)};

@@ -2,7 +2,6 @@
 // spheres (closed form) and sampled surfaces, the promise that a pair moved within its margin
 // cannot touch, the turned-angle bound of the integrator, and whole runs with and without them.
 #include <gtest/gtest.h>
-#include <hdf5.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -18,6 +17,7 @@
 #include "shapes/superquadric_contact.hpp"
 #include "src/scene_loader.hpp"
 
+#include "checkpoint_test_support.hpp"
 #include "geometry_test_support.hpp"
 #include "scene_builders.hpp"
 
@@ -304,14 +304,8 @@ int certified_pairs(const Engine& engine) {
                             ("kdem_certificates_" + std::to_string(::getpid()) + ".h5"))
                                .string();
   engine.write_checkpoint(path);
-  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  const hid_t dataset = H5Dopen2(file, "pairs/separation_margin", H5P_DEFAULT);
-  const hid_t space = H5Dget_space(dataset);
-  std::vector<double> margin(std::size_t(H5Sget_simple_extent_npoints(space)));
-  H5Dread(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, margin.data());
-  H5Sclose(space);
-  H5Dclose(dataset);
-  H5Fclose(file);
+  const std::vector<double> margin =
+      read_checkpoint_dataset<double>(path, "pairs/separation_margin", H5T_NATIVE_DOUBLE);
   std::remove(path.c_str());
   return int(std::count_if(margin.begin(), margin.end(), [](double m) { return m > 0; }));
 }
