@@ -131,10 +131,17 @@ KOKKOS_INLINE_FUNCTION Vec3 edge_outward_of(const WallElements& el, int edge, in
           el.edge_outward(edge, 3 * side + 2)};
 }
 
+// How far p lies beyond the plane through `start` with the unit normal `direction`: the one
+// computation of every claim test, in one compiled copy (see KDEM_ONE_COPY_FUNCTION), so that the
+// face, edge and vertex tests of two triangles, and a certificate's shortcut, see a tie alike.
+KDEM_ONE_COPY_FUNCTION double signed_beyond(Vec3 p, Vec3 start, Vec3 direction) {
+  return dot(p - start, direction);
+}
+
 // Signed in-plane distance of p's projection beyond `edge`, seen from the triangle on `side`.
 KOKKOS_INLINE_FUNCTION double beyond_edge(const WallElements& el, int edge, int side, Vec3 p) {
-  return dot(p - load3(el.vertex_position, el.edge_vertices(edge, 0)),
-             edge_outward_of(el, edge, side));
+  return signed_beyond(p, load3(el.vertex_position, el.edge_vertices(edge, 0)),
+                       edge_outward_of(el, edge, side));
 }
 
 // p projects into triangle e deeper than the tolerance from each of its edges. The same numbers
@@ -144,7 +151,7 @@ KOKKOS_INLINE_FUNCTION bool face_claims(const WallElements& el, int e, Vec3 p) {
   for (int k = 0; k < 3; ++k) {
     const Vec3 start = geometry_vec(el.geometry, e, 9 + 6 * k);
     const Vec3 outward = geometry_vec(el.geometry, e, 12 + 6 * k);
-    if (!(dot(p - start, outward) < -el.feature_tolerance))
+    if (!(signed_beyond(p, start, outward) < -el.feature_tolerance))
       return false;
   }
   return true;
@@ -158,7 +165,7 @@ KOKKOS_INLINE_FUNCTION double face_claim_margin(const WallElements& el, int e, V
   for (int k = 0; k < 3; ++k) {
     const Vec3 start = geometry_vec(el.geometry, e, 9 + 6 * k);
     const Vec3 outward = geometry_vec(el.geometry, e, 12 + 6 * k);
-    const double inside = -el.feature_tolerance - dot(p - start, outward);
+    const double inside = -el.feature_tolerance - signed_beyond(p, start, outward);
     margin = k == 0 || inside < margin ? inside : margin;
   }
   return margin;
@@ -173,14 +180,14 @@ KOKKOS_INLINE_FUNCTION bool edge_claims(const WallElements& el, int edge, Vec3 p
   const Vec3 d = load3(el.edge_direction, edge);
   const Vec3 a = load3(el.vertex_position, el.edge_vertices(edge, 0));
   const Vec3 b = load3(el.vertex_position, el.edge_vertices(edge, 1));
-  return dot(p - a, d) > tol && dot(p - b, -d) > tol;
+  return signed_beyond(p, a, d) > tol && signed_beyond(p, b, -d) > tol;
 }
 
 // The fallback: p projects beyond no edge leaving the vertex and into no face around it.
 KOKKOS_INLINE_FUNCTION bool vertex_claims(const WallElements& el, int vertex, Vec3 p) {
   const Vec3 v = load3(el.vertex_position, vertex);
   for (int k = el.vertex_edge_start(vertex); k < el.vertex_edge_start(vertex + 1); ++k)
-    if (dot(p - v, load3(el.vertex_edge_direction, k)) > el.feature_tolerance)
+    if (signed_beyond(p, v, load3(el.vertex_edge_direction, k)) > el.feature_tolerance)
       return false;
   for (int k = el.vertex_triangle_start(vertex); k < el.vertex_triangle_start(vertex + 1); ++k)
     if (face_claims(el, el.vertex_triangle(k), p))
@@ -220,6 +227,13 @@ KOKKOS_INLINE_FUNCTION TrianglePlane triangle_plane(const WallElements& el, int 
                         geometry_vec(el.geometry, e, 6), p);
 }
 
+// The contact of p with the face of triangle abc (its foot on the plane), in one compiled copy:
+// the full claim test and a face certificate's shortcut give it bit for bit.
+KDEM_ONE_COPY_FUNCTION SurfaceQuery face_point_query(Vec3 a, Vec3 b, Vec3 c, Vec3 p) {
+  const TrianglePlane t = triangle_plane(a, b, c, p);
+  return point_feature_query(p - t.height * t.normal, p, t.height >= 0 ? t.normal : -t.normal, 0);
+}
+
 // The feature of triangle e that claims p, if e reports it and it lies within `reach` of p:
 // its face, or an edge or vertex that e owns. A centre is claimed by exactly one feature of a
 // mesh (up to the edge cases of a tolerance band at obtuse corners, where it may be claimed by
@@ -238,7 +252,7 @@ KOKKOS_INLINE_FUNCTION SurfaceQuery claimed_triangle_feature(const WallElements&
     return SurfaceQuery{};
   applies = true;
   if (face_claims(el, e, p))
-    return point_feature_query(p - t.height * t.normal, p, facing, 0);
+    return face_point_query(t.a, t.b, t.c, p);
   for (int k = 0; k < 3; ++k) {
     const int edge = el.features(e, k);
     if (el.edge_owner(edge) != e)
@@ -403,15 +417,14 @@ KOKKOS_INLINE_FUNCTION SurfaceQuery certified_triangle_feature(const WallElement
   const double margin = entry.certificate(k, 3);
   const Vec3 claimed_at{entry.certificate(k, 0), entry.certificate(k, 1), entry.certificate(k, 2)};
   if (margin > 0 && norm2(p - claimed_at) < 0.25 * margin * margin) {
-    const TrianglePlane t =
-        triangle_plane(entry_corner(entry.corners, k, 0), entry_corner(entry.corners, k, 1),
-                       entry_corner(entry.corners, k, 2), p);
+    const Vec3 a = entry_corner(entry.corners, k, 0), b = entry_corner(entry.corners, k, 1),
+               c = entry_corner(entry.corners, k, 2);
     // Claimed by the face, p's distance to the triangle is its height (up to rounding, which
     // decides nothing here: beyond the radius no contact touches).
-    applies = math::fabs(t.height) < reach * (1 + 1e-9);
+    applies = math::fabs(triangle_plane(a, b, c, p).height) < reach * (1 + 1e-9);
     if (!applies)
       return SurfaceQuery{};
-    return point_feature_query(p - t.height * t.normal, p, t.height >= 0 ? t.normal : -t.normal, 0);
+    return face_point_query(a, b, c, p);
   }
   const SurfaceQuery q = claimed_triangle_feature(el, e, p, reach, applies);
   if (applies && q.feature == 0) {

@@ -3,6 +3,19 @@
 // (Kokkos).
 #include <Kokkos_Core.hpp>
 
+// KDEM_ONE_COPY_FUNCTION: a device-callable function compiled once and called, never inlined or
+// cloned. For tests that must give the same bits wherever they are made (two triangles deciding
+// which of them claims a point): a compiler may contract a * b + c into a fused multiply-add
+// differently in each inlined copy of one expression (GCC where the target has FMA, nvcc always),
+// so only a single compiled copy is sure to round alike for every caller.
+#if defined(__CUDACC__)
+#define KDEM_ONE_COPY_FUNCTION __noinline__ KOKKOS_INLINE_FUNCTION
+#elif defined(__clang__)
+#define KDEM_ONE_COPY_FUNCTION __attribute__((noinline)) KOKKOS_INLINE_FUNCTION
+#else
+#define KDEM_ONE_COPY_FUNCTION __attribute__((noipa)) KOKKOS_INLINE_FUNCTION
+#endif
+
 namespace kdem::math {
 #if KOKKOS_VERSION >= 40000
 using Kokkos::cbrt;

@@ -277,7 +277,9 @@ KOKKOS_INLINE_FUNCTION SurfaceWallContact surface_plane_contact(const Surface& p
 // - vertex (its owner reports, if the vertex is a corner): F falls along no edge leaving it, and
 //   no face around it that the owner knows reports.
 // Needs: triangles in one plane store the same normal bits (the support point of a blocky
-// particle lying flat moves by (1e-16)^(1/(n-1)) of its size with the last bit of the normal).
+// particle lying flat moves by (1e-16)^(1/(n-1)) of its size with the last bit of the normal),
+// and the tests compiled once (view_face, minimiser_inside_edge, descends_from: see
+// KDEM_ONE_COPY_FUNCTION), so that every triangle's call rounds alike.
 
 // What a triangle knows about the mesh around it, filled once per mesh by the caller. Edge k joins
 // vertices k and k + 1 (ab, bc, ca); vertex k is a, b, c.
@@ -326,7 +328,7 @@ struct FaceView {
 };
 
 template <class Surface>
-KOKKOS_INLINE_FUNCTION FaceView view_face(const Surface& p, Vec3 stored_normal, Vec3 u, Vec3 v,
+KDEM_ONE_COPY_FUNCTION FaceView view_face(const Surface& p, Vec3 stored_normal, Vec3 u, Vec3 v,
                                           Vec3 w) {
   FaceView f;
   const double side = dot(p.centre - lexicographic_first(u, v, w), stored_normal);
@@ -336,25 +338,40 @@ KOKKOS_INLINE_FUNCTION FaceView view_face(const Surface& p, Vec3 stored_normal, 
   return f;
 }
 
-// Whether the minimiser of F over the face's plane lies on the triangle's side of edge uv
-// (w: the triangle's third vertex). The minimiser is where the scaled copy of the particle through
-// its support point touches the plane: centre + (height / extent) (support - centre). The edge
-// runs from its lexicographically first vertex, and a point exactly on it belongs to the triangle
-// on its left. Two coplanar triangles of the edge compute the same side with opposite signs of
-// their third vertex, so exactly one contains the point. At an inner vertex of a plane, the
-// neighbours after it in that order fill one half-plane, so exactly one triangle of its fan has
-// the point on its side of both its edges there.
+// The point where the scaled copy of the particle through its support point touches the face's
+// plane, which minimises F over the plane: centre + (height / extent) (support - centre), the
+// height measured from `on_plane`, a point of the plane.
 template <class Surface>
-KOKKOS_INLINE_FUNCTION bool minimiser_inside_edge(const Surface& p, const FaceView& f, Vec3 u,
+KOKKOS_INLINE_FUNCTION Vec3 plane_minimiser(const Surface& p, const FaceView& f, Vec3 on_plane) {
+  const double height = math::max(dot(p.centre - on_plane, f.normal), 0.0);
+  const double scale = f.extent > 0 ? height / f.extent : 0.0;
+  return p.centre + scale * (f.support - p.centre);
+}
+
+// Whether the minimiser of F over the face's plane lies on the triangle's side of edge uv
+// (w: the triangle's third vertex). The edge runs from its lexicographically first vertex, and a
+// point exactly on it belongs to the triangle on its left. Two coplanar triangles of the edge
+// compute the same side with opposite signs of their third vertex, so exactly one contains the
+// point. At an inner vertex of a plane, the neighbours after it in that order fill one
+// half-plane, so exactly one triangle of its fan has the point on its side of both its edges
+// there. That needs every edge at the vertex to see the same minimiser at the same offset from
+// it: the minimiser is measured from the edge's end nearer to it (the first end on a tie), so
+// near a vertex every edge there measures from the vertex, and the small offset is a difference
+// of nearby doubles, exact. Measured from the far end, the offset would differ from the edge by
+// a rounding, whose cross product with the edge a fused multiply-add does not cancel.
+template <class Surface>
+KDEM_ONE_COPY_FUNCTION bool minimiser_inside_edge(const Surface& p, const FaceView& f, Vec3 u,
                                                   Vec3 v, Vec3 w) {
   const bool forward = lexicographically_before(u, v);
-  const Vec3 start = forward ? u : v;
-  const Vec3 edge = (forward ? v : u) - start;
-  const double height = math::max(dot(p.centre - start, f.normal), 0.0);
-  const double scale = f.extent > 0 ? height / f.extent : 0.0;
-  const Vec3 minimiser = p.centre + scale * (f.support - p.centre);
-  const bool left = dot(cross(edge, minimiser - start), f.normal) >= 0;
-  return left == (dot(cross(edge, w - start), f.normal) > 0);
+  const Vec3 first = forward ? u : v, second = forward ? v : u;
+  const Vec3 edge = second - first;
+  const Vec3 from_first = plane_minimiser(p, f, first);
+  const bool nearer_second = norm2(from_first - second) < norm2(from_first - first);
+  const Vec3 anchor = nearer_second ? second : first;
+  const Vec3 minimiser = nearer_second ? plane_minimiser(p, f, second) : from_first;
+  // cross(edge, m - second) = cross(edge, m - first): the side of the same directed edge.
+  const bool left = dot(cross(edge, minimiser - anchor), f.normal) >= 0;
+  return left == (dot(cross(edge, w - first), f.normal) > 0);
 }
 
 template <class Surface>
@@ -366,7 +383,7 @@ KOKKOS_INLINE_FUNCTION bool face_reports(const Surface& p, const FaceView& f, Ve
 
 // F decreases from `from` towards `to` (the same numbers wherever the pair is evaluated).
 template <class Surface>
-KOKKOS_INLINE_FUNCTION bool descends_from(const Surface& p, Vec3 from, Vec3 to) {
+KDEM_ONE_COPY_FUNCTION bool descends_from(const Surface& p, Vec3 from, Vec3 to) {
   const Vec3 start = p.to_local(from);
   return dot(p.template local<false>(start).gradient, p.to_local(to) - start) < 0;
 }
