@@ -240,9 +240,10 @@ KOKKOS_INLINE_FUNCTION SurfaceWallContact surface_vertex_contact(const Surface& 
 // ----------------------------------------------------------------------------------------
 
 // Plane through `origin` with unit normal `free_normal` pointing to the particle's side: the
-// deepest particle point is the support point in -free_normal (book Eqs. 2.11-2.13).
+// deepest particle point is the support point in -free_normal (book Eqs. 2.11-2.13). Compiled
+// once (KDEM_ONE_COPY_FUNCTION), so that a mesh face's contact is a plane wall's bit for bit.
 template <class Surface>
-KOKKOS_INLINE_FUNCTION SurfaceWallContact surface_plane_contact(const Surface& p, Vec3 plane_origin,
+KDEM_ONE_COPY_FUNCTION SurfaceWallContact surface_plane_contact(const Surface& p, Vec3 plane_origin,
                                                                 Vec3 free_normal) {
   SurfaceWallContact c;
   c.feature = 0;
