@@ -213,7 +213,9 @@ struct TrianglePlane {
   double height = 0;
 };
 
-KOKKOS_INLINE_FUNCTION TrianglePlane triangle_plane(Vec3 a, Vec3 b, Vec3 c, Vec3 p) {
+// Compiled once, like face_point_query: the full claim test and a face certificate's shortcut
+// see the same plane.
+KDEM_ONE_COPY_FUNCTION TrianglePlane triangle_plane(Vec3 a, Vec3 b, Vec3 c, Vec3 p) {
   TrianglePlane t;
   t.a = a, t.b = b, t.c = c;
   const Vec3 normal_raw = cross(t.b - t.a, t.c - t.a);
@@ -227,10 +229,9 @@ KOKKOS_INLINE_FUNCTION TrianglePlane triangle_plane(const WallElements& el, int 
                         geometry_vec(el.geometry, e, 6), p);
 }
 
-// The contact of p with the face of triangle abc (its foot on the plane), in one compiled copy:
-// the full claim test and a face certificate's shortcut give it bit for bit.
-KDEM_ONE_COPY_FUNCTION SurfaceQuery face_point_query(Vec3 a, Vec3 b, Vec3 c, Vec3 p) {
-  const TrianglePlane t = triangle_plane(a, b, c, p);
+// The contact of p with the face of plane t (its foot on the plane), in one compiled copy: the
+// full claim test and a face certificate's shortcut give it bit for bit.
+KDEM_ONE_COPY_FUNCTION SurfaceQuery face_point_query(const TrianglePlane& t, Vec3 p) {
   return point_feature_query(p - t.height * t.normal, p, t.height >= 0 ? t.normal : -t.normal, 0);
 }
 
@@ -252,7 +253,7 @@ KOKKOS_INLINE_FUNCTION SurfaceQuery claimed_triangle_feature(const WallElements&
     return SurfaceQuery{};
   applies = true;
   if (face_claims(el, e, p))
-    return face_point_query(t.a, t.b, t.c, p);
+    return face_point_query(t, p);
   for (int k = 0; k < 3; ++k) {
     const int edge = el.features(e, k);
     if (el.edge_owner(edge) != e)
@@ -417,14 +418,15 @@ KOKKOS_INLINE_FUNCTION SurfaceQuery certified_triangle_feature(const WallElement
   const double margin = entry.certificate(k, 3);
   const Vec3 claimed_at{entry.certificate(k, 0), entry.certificate(k, 1), entry.certificate(k, 2)};
   if (margin > 0 && norm2(p - claimed_at) < 0.25 * margin * margin) {
-    const Vec3 a = entry_corner(entry.corners, k, 0), b = entry_corner(entry.corners, k, 1),
-               c = entry_corner(entry.corners, k, 2);
+    const TrianglePlane t =
+        triangle_plane(entry_corner(entry.corners, k, 0), entry_corner(entry.corners, k, 1),
+                       entry_corner(entry.corners, k, 2), p);
     // Claimed by the face, p's distance to the triangle is its height (up to rounding, which
     // decides nothing here: beyond the radius no contact touches).
-    applies = math::fabs(triangle_plane(a, b, c, p).height) < reach * (1 + 1e-9);
+    applies = math::fabs(t.height) < reach * (1 + 1e-9);
     if (!applies)
       return SurfaceQuery{};
-    return face_point_query(a, b, c, p);
+    return face_point_query(t, p);
   }
   const SurfaceQuery q = claimed_triangle_feature(el, e, p, reach, applies);
   if (applies && q.feature == 0) {
