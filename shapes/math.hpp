@@ -16,6 +16,19 @@
 #define KDEM_ONE_COPY_FUNCTION __attribute__((noipa)) KOKKOS_INLINE_FUNCTION
 #endif
 
+// KDEM_WHOLE_FUNCTION: KDEM_ONE_COPY_FUNCTION with everything it calls inlined into it (GCC and
+// clang: flatten), so that its code does not depend on the translation unit it is compiled in.
+// The Serial and OpenMP engines compile the same kernels in translation units of their own, and
+// where a callee is inlined depends on what else the unit holds; with fused multiply-adds that
+// decides the last bits. For the narrow phases, so that both engines run the same instructions.
+#if defined(__CUDACC__)
+#define KDEM_WHOLE_FUNCTION __noinline__ KOKKOS_INLINE_FUNCTION
+#elif defined(__clang__)
+#define KDEM_WHOLE_FUNCTION __attribute__((noinline, flatten)) KOKKOS_INLINE_FUNCTION
+#else
+#define KDEM_WHOLE_FUNCTION __attribute__((noipa, flatten)) KOKKOS_INLINE_FUNCTION
+#endif
+
 namespace kdem::math {
 #if KOKKOS_VERSION >= 40000
 using Kokkos::cbrt;

@@ -273,7 +273,8 @@ KOKKOS_INLINE_FUNCTION PosedSuperquadric morphed(const PosedSuperquadric& p, dou
 
 // Fallback: continuation from the exact sphere solution through shapes morphed in stages; a
 // stage that fails is retried at half the increment. On success u and e belong to the real pair.
-KOKKOS_INLINE_FUNCTION bool homotopy_solve(const MidwayProblem& real, Unknowns& u,
+// Compiled apart from the direct solve, which it would otherwise double in size.
+KDEM_WHOLE_FUNCTION bool homotopy_solve(const MidwayProblem& real, Unknowns& u,
                                            MidwayProblem::Evaluation& e,
                                            const NarrowPhaseControls& controls, int& iterations) {
   const int stages = controls.homotopy_stages > 0 ? controls.homotopy_stages : 1;
@@ -537,7 +538,7 @@ KOKKOS_INLINE_FUNCTION bool ellipsoid_pair_solve(const MidwayProblem& problem,
 
 } // namespace narrow_phase
 
-KOKKOS_INLINE_FUNCTION NarrowPhaseResult
+KDEM_WHOLE_FUNCTION NarrowPhaseResult
 superquadric_pair_contact(const PosedSuperquadric& i, const PosedSuperquadric& j,
                           const MidwayState& previous, const NarrowPhaseControls& controls) {
   using namespace narrow_phase;
@@ -582,7 +583,7 @@ superquadric_pair_contact(const PosedSuperquadric& i, const PosedSuperquadric& j
 // overlap = radius - signed distance of the centre from j along the outward normal at p. The
 // state stores p with multiplier 1 (a flag: nu is recomputed from p). Falls back to the midway
 // method with the sphere as an n = 2 superquadric.
-KOKKOS_INLINE_FUNCTION NarrowPhaseResult
+KDEM_WHOLE_FUNCTION NarrowPhaseResult
 sphere_superquadric_contact(Vec3 sphere_centre, double sphere_radius, const PosedSuperquadric& j,
                             const MidwayState& previous, const NarrowPhaseControls& controls) {
   using namespace narrow_phase;
