@@ -275,8 +275,8 @@ KOKKOS_INLINE_FUNCTION PosedSuperquadric morphed(const PosedSuperquadric& p, dou
 // stage that fails is retried at half the increment. On success u and e belong to the real pair.
 // Compiled apart from the direct solve, which it would otherwise double in size.
 KDEM_WHOLE_FUNCTION bool homotopy_solve(const MidwayProblem& real, Unknowns& u,
-                                           MidwayProblem::Evaluation& e,
-                                           const NarrowPhaseControls& controls, int& iterations) {
+                                        MidwayProblem::Evaluation& e,
+                                        const NarrowPhaseControls& controls, int& iterations) {
   const int stages = controls.homotopy_stages > 0 ? controls.homotopy_stages : 1;
   double reached = 0, increment = 1.0 / stages;
   Unknowns current{sphere_midway_point(real.i, real.j), 1.0};
