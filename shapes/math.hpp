@@ -22,11 +22,9 @@
 // where a callee is inlined depends on what else the unit holds; with fused multiply-adds that
 // decides the last bits. For the narrow phases, so that both engines run the same instructions.
 #if defined(__CUDACC__)
-#define KDEM_WHOLE_FUNCTION __noinline__ KOKKOS_INLINE_FUNCTION
-#elif defined(__clang__)
-#define KDEM_WHOLE_FUNCTION __attribute__((noinline, flatten)) KOKKOS_INLINE_FUNCTION
+#define KDEM_WHOLE_FUNCTION KDEM_ONE_COPY_FUNCTION
 #else
-#define KDEM_WHOLE_FUNCTION __attribute__((noipa, flatten)) KOKKOS_INLINE_FUNCTION
+#define KDEM_WHOLE_FUNCTION __attribute__((flatten)) KDEM_ONE_COPY_FUNCTION
 #endif
 
 namespace kdem::math {
