@@ -43,6 +43,15 @@ def one_run(binary, shape, n, args, extra):
     return record
 
 
+def recorded_name(program):
+    """How a results file names a program: its path in the checkout, or its file name (a
+    folder outside the checkout says nothing to a reader of the file)."""
+    try:
+        return str(program.relative_to(ROOT))
+    except ValueError:
+        return program.name
+
+
 def fastest_rate(runs):
     """Particle-steps per second of the fastest timed run: a disturbance of the machine can only
     slow a run, so on a noisy machine this scatters less than the median."""
@@ -135,15 +144,15 @@ def main():
         for round_index in range(args.rounds):
             for label, binary in programs.items():
                 record = one_run(binary, shape, n, args, extras[label])
-                record.update({"label": label, "program": str(binary), "shape": shape,
+                record.update({"label": label, "program": recorded_name(binary), "shape": shape,
                                "round": round_index})
                 runs.append(record)
                 run_bench.log(f"{shape:9s} {label:8s} round {round_index}: "
                               f"{record['particle_steps_per_s']:.4g} particle-steps/s")
     result = {"benchmark": "bench_shapes_ab", "machine": run_bench.machine_info(), "n": n,
               "threads": args.threads, "rounds": args.rounds, "repeat": args.repeat,
-              "labels": [args.label_a, args.label_b], "programs": {k: str(v) for k, v in
-                                                                  programs.items()},
+              "labels": [args.label_a, args.label_b],
+              "programs": {k: recorded_name(v) for k, v in programs.items()},
               "extra_options": extras,
               "summary": summary(runs, [args.label_a, args.label_b], args.shapes), "runs": runs}
     write_json(result, Path(args.json))
