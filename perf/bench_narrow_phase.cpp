@@ -4,13 +4,16 @@
 //   kdem_bench_narrow_phase_<backend> --out FILE.json [--mode hard|sweep|failures]
 //       [--tolerance T] [--max-iterations K] [--no-fallback] [--ellipsoid-general-newton]
 //       [--repeat R] [--random-pairs N] [--sequences S] [--poses P] [--min-evaluations E]
-//       [--failure-pairs F] [--seed SEED] [--kokkos-threads=T]
+//       [--failure-pairs F] [--seed SEED] [--lanes] [--kokkos-threads=T]
 //
 // hard:     the hard cases, random pairs and moving pairs (warm and cold) at one setting
 //           (the defaults of NarrowPhaseControls unless given).
 // sweep:    random and moving pairs for tolerance in {1e-4 ... 1e-12} x cap in {5, 10, 20, 40}
 //           with the fallback, and the default setting without it.
 // failures: F random pairs and F moving poses at one setting, in chunks; statuses only.
+// --lanes:  each pair solved as the host engine solves it (shapes/superquadric_lanes.hpp): in
+//           lanes (the pair in all four, as lanes do not depend on each other), by the scalar
+//           solve where the lanes hand it back. Host builds only.
 //
 // Time per evaluation: median over R repetitions of (fenced Kokkos::Timer time of as many
 // launches over the set as give at least E evaluations) / evaluations; a set smaller than E is
@@ -41,6 +44,7 @@
 
 #include "kernels/types.hpp"
 #include "perf/narrow_phase_cases.hpp"
+#include "shapes/superquadric_lanes.hpp"
 #include "src/build_info.hpp"
 
 namespace {
@@ -59,6 +63,7 @@ struct Options {
   long long min_evaluations = 20000;
   long long failure_pairs = 1000000;
   std::uint64_t seed = 1;
+  bool lanes = false;
   double load_at_start = -1; // set when the run starts
 };
 
@@ -66,7 +71,7 @@ const char* usage =
     "usage: kdem_bench_narrow_phase_<backend> --out FILE.json [--mode hard|sweep|failures]\n"
     "    [--tolerance T] [--max-iterations K] [--no-fallback] [--ellipsoid-general-newton]\n"
     "    [--repeat R] [--random-pairs N] [--sequences S] [--poses P] [--min-evaluations E]\n"
-    "    [--failure-pairs F] [--seed SEED]\n"
+    "    [--failure-pairs F] [--seed SEED] [--lanes]\n"
     "Kokkos options (e.g. --kokkos-threads=2) are passed to Kokkos.\n";
 
 using OptionSetter = std::function<void(Options&, const std::string&)>;
@@ -113,6 +118,12 @@ Options parse(int argc, char** argv) {
     }
     if (name == "--ellipsoid-general-newton") {
       o.controls.ellipsoid_scalar_root = false;
+      continue;
+    }
+    if (name == "--lanes") {
+      if (!KDEM_HOST_LANES)
+        throw std::runtime_error("--lanes: this build has no host lanes");
+      o.lanes = true;
       continue;
     }
     if (name == "-h" || name == "--help") {
@@ -171,9 +182,45 @@ KOKKOS_INLINE_FUNCTION Outcome outcome_of(const NarrowPhaseResult& r) {
   return o;
 }
 
+#if KDEM_HOST_LANES
+// As the host engine: in lanes, by the scalar solve where they hand the pair back.
+NarrowPhaseResult solve_in_lanes(const PosePair& pair, const MidwayState& start,
+                                 const NarrowPhaseControls& controls) {
+  lanes::PairInputs in;
+  for (int l = 0; l < lanes::width; ++l)
+    lanes::set_lane(in, l, pair.i.centre, pair.i.rotation, pair.j.centre, pair.j.rotation, start);
+  NarrowPhaseResult results[lanes::width];
+  if (lanes::superquadric_pair_contact(pair.i.shape, pair.j.shape, in, controls, results) & 1)
+    return results[0];
+  return superquadric_pair_contact(pair.i, pair.j, start, controls);
+}
+
+void evaluate_in_lanes(const DeviceSet& set, const NarrowPhaseControls& controls,
+                       Kokkos::View<Outcome*, MemSpace> outcomes) {
+  const auto pairs = set.pairs;
+  const int poses = set.poses;
+  const bool warm = set.warm_start;
+  Kokkos::parallel_for("narrow_phase_bench_lanes", Kokkos::RangePolicy<ExecSpace>(0, set.sequences),
+                       [=](int s) {
+                         MidwayState state;
+                         for (int p = 0; p < poses; ++p) {
+                           const int k = s * poses + p;
+                           const NarrowPhaseResult r =
+                               solve_in_lanes(pairs(k), warm ? state : MidwayState{}, controls);
+                           outcomes(k) = outcome_of(r);
+                           state = r.status == 2 ? MidwayState{} : r.state;
+                         }
+                       });
+}
+#endif
+
 // One pass over the set: sequences in parallel, the poses of a sequence in order.
 void evaluate(const DeviceSet& set, const NarrowPhaseControls& controls,
-              Kokkos::View<Outcome*, MemSpace> outcomes) {
+              Kokkos::View<Outcome*, MemSpace> outcomes, bool in_lanes = false) {
+#if KDEM_HOST_LANES
+  if (in_lanes)
+    return evaluate_in_lanes(set, controls, outcomes);
+#endif
   const auto pairs = set.pairs;
   const int poses = set.poses;
   const bool warm = set.warm_start;
@@ -231,18 +278,18 @@ double process_cpu_seconds() {
 }
 
 Measurement measure(const DeviceSet& set, const NarrowPhaseControls& controls, int repeat,
-                    long long min_evaluations) {
+                    long long min_evaluations, bool in_lanes) {
   Kokkos::View<Outcome*, MemSpace> outcomes("narrow_phase_outcomes", set.evaluations());
   const long long launches =
       std::max(1LL, (min_evaluations + set.evaluations() - 1) / set.evaluations());
-  evaluate(set, controls, outcomes); // untimed: first touch, page faults
+  evaluate(set, controls, outcomes, in_lanes); // untimed: first touch, page faults
   Measurement m;
   for (int r = 0; r < repeat; ++r) {
     Kokkos::fence();
     const double cpu_start = process_cpu_seconds();
     Kokkos::Timer timer;
     for (long long l = 0; l < launches; ++l)
-      evaluate(set, controls, outcomes);
+      evaluate(set, controls, outcomes, in_lanes);
     Kokkos::fence();
     const double evaluations = double(launches * set.evaluations());
     m.seconds_per_evaluation.push_back(timer.seconds() / evaluations);
@@ -451,7 +498,8 @@ std::string header_json(const Options& o) {
     << ", \"threads\": " << ExecSpace().concurrency() << ", \"cpu_model\": " << quoted(cpu_model())
     << ", \"hardware_threads\": " << std::thread::hardware_concurrency()
     << ", \"repeat\": " << o.repeat << ", \"min_evaluations\": " << o.min_evaluations
-    << ", \"seed\": " << o.seed << ", \"load_average_start\": " << number(o.load_at_start)
+    << ", \"seed\": " << o.seed << ", \"lanes\": " << (o.lanes ? "true" : "false")
+    << ", \"load_average_start\": " << number(o.load_at_start)
     << ", \"load_average_end\": " << number(load_average()) << ", \"git\": \"" << kdem::git_hash()
     << "\"";
   return j.str();
@@ -507,7 +555,7 @@ std::string run_json(const NarrowPhaseControls& controls, const std::vector<Prep
                      const Options& o) {
   std::string json = "{\"controls\": " + controls_json(controls) + ", \"sets\": [";
   for (std::size_t k = 0; k < sets.size(); ++k) {
-    Measurement m = measure(sets[k].timing, controls, o.repeat, o.min_evaluations);
+    Measurement m = measure(sets[k].timing, controls, o.repeat, o.min_evaluations, o.lanes);
     m.outcomes.resize(sets[k].cases.pairs.size()); // the first copy is the set itself
     json += (k ? ",\n    " : "\n    ") + set_json(sets[k].cases, m, sets[k].reference);
   }
@@ -561,7 +609,7 @@ std::string failure_set_json(const std::string& name, long long total, const Opt
   for (std::uint64_t chunk = 0; convergence.evaluations < total; ++chunk) {
     const DeviceSet device = upload(chunk_of(chunk_size, o.seed + 1000 + chunk, o));
     Kokkos::View<Outcome*, MemSpace> outcomes("narrow_phase_outcomes", device.evaluations());
-    evaluate(device, o.controls, outcomes);
+    evaluate(device, o.controls, outcomes, o.lanes);
     add_outcomes(convergence, to_host(outcomes));
   }
   return "{\"name\": " + quoted(name) + ", " + convergence_json(convergence) + "}";

@@ -43,7 +43,7 @@ std::shared_ptr<const FamilyShapeParameters> read_superquadric(const Value& valu
 std::shared_ptr<const FamilySettings> read_superquadric_contact(const Value& value) {
   const Mapping map(value, {"tolerance", "max_iterations", "curvature_limit",
                             "separation_certificates", "box_certificates", "compact_candidates",
-                            "extrapolate_start", "ellipsoid_scalar_root", "team_size"});
+                            "extrapolate_start", "ellipsoid_scalar_root", "lanes", "team_size"});
   auto settings = std::make_shared<SuperquadricContactConfig>();
   SuperquadricContactConfig& config = *settings;
   if (auto value_found = map.find("tolerance"))
@@ -64,6 +64,8 @@ std::shared_ptr<const FamilySettings> read_superquadric_contact(const Value& val
     config.extrapolate_start = boolean(*value_found);
   if (auto value_found = map.find("ellipsoid_scalar_root"))
     config.ellipsoid_scalar_root = boolean(*value_found);
+  if (auto value_found = map.find("lanes"))
+    config.lanes = boolean(*value_found);
   if (auto value_found = map.find("team_size"))
     config.team_size = int(whole_number(*value_found, 0));
   return settings;

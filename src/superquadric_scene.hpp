@@ -25,6 +25,7 @@ struct SuperquadricContactConfig : FamilySettings {
   bool compact_candidates = true;      // scan the box tests' survivors into a dense list
   bool extrapolate_start = true;       // Newton starts from the last point moved by its last step
   bool ellipsoid_scalar_root = true;   // two ellipsoids: the midway point as a scalar root
+  bool lanes = true;                   // host: four pairs of one shape pair solved in lock step
   int team_size = 0;                   // lanes per team of the narrow-phase kernels; 0: flat
 };
 

@@ -41,6 +41,7 @@ SuperquadricContactSettings device_settings(const FamilySettings* scene_settings
   settings.compact_candidates = config.compact_candidates;
   settings.extrapolate_start = config.extrapolate_start;
   settings.newton.ellipsoid_scalar_root = config.ellipsoid_scalar_root;
+  settings.lanes = config.lanes;
   settings.team_size = config.team_size;
   if (config.tolerance > 0)
     settings.newton.tolerance = config.tolerance;

@@ -1026,6 +1026,10 @@ TEST(SceneShapes, TheEllipsoidScalarRootIsOnByDefaultAndCanBeTurnedOff) {
                               &kdem::SuperquadricContactConfig::ellipsoid_scalar_root);
 }
 
+TEST(SceneShapes, SuperquadricLanesAreOnByDefaultAndCanBeTurnedOff) {
+  expect_switch_on_by_default("lanes", &kdem::SuperquadricContactConfig::lanes);
+}
+
 TEST(SceneKeys, SortByCellIsOnByDefault) {
   EXPECT_TRUE(load_text(minimal_scene()).sort_by_cell);
   EXPECT_FALSE(load_text(minimal_scene_plus("sort_by_cell: false\n")).sort_by_cell);

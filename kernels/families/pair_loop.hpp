@@ -77,6 +77,15 @@ struct EveryRowOfTheType {
   }
 };
 
+// Pairs a narrow phase takes at a time: 1, or its lane_width where it has one (a host narrow
+// phase that solves several pairs in lock step through
+//   void operator()(const PairRef*, int count, PairContacts<max_contacts>*, PairOutcome*,
+//                   NarrowPhaseTally&) const).
+template <class Narrow, class = void> struct lane_width_of : std::integral_constant<int, 1> {};
+template <class Narrow>
+struct lane_width_of<Narrow, std::void_t<decltype(Narrow::lane_width)>>
+    : std::integral_constant<int, Narrow::lane_width> {};
+
 template <class A, class B, class Law>
 void compute_pair_type(const ContactContext& c, PairTypeRows& type_rows) {
   using Narrow = NarrowPhase<A, B>;
@@ -93,30 +102,57 @@ void compute_pair_type(const ContactContext& c, PairTypeRows& type_rows) {
   const CoefficientTable table = c.coefficients;
   const double dt = c.dt;
   constexpr int K = Narrow::max_contacts;
-  const auto body = KOKKOS_LAMBDA(int s, NarrowPhaseTally& tally) {
-    if (todo.skipped(s))
-      return;
+  const auto pair_ref = KOKKOS_LAMBDA(int s) {
     const int k = todo.rows(s), i = pair_i(k), j = pair_j(k);
     const bool flipped = pair_is_flipped<A, B>(shapes, p, i);
-    const PairRef ref{k, i, j, flipped ? j : i, flipped ? i : j, flipped};
-    PairContacts<K> found;
-    const PairOutcome outcome = narrow(ref, found, tally);
+    return PairRef{k, i, j, flipped ? j : i, flipped ? i : j, flipped};
+  };
+  const auto apply =
+      KOKKOS_LAMBDA(const PairRef& ref, PairOutcome outcome, PairContacts<K>& found) {
     if (outcome == PairOutcome::unchanged)
       return;
     if (outcome == PairOutcome::apart) {
-      slots.clear(k);
+      slots.clear(ref.k);
       return;
     }
-    if (flipped)
+    if (ref.flipped)
       for (int c = 0; c < found.count; ++c)
         found.contact[c].geometry.normal = -found.contact[c].geometry.normal;
-    store_contacts<Law>(slots, k, p, i, j, found, flipped, table(p.material(i), p.material(j)), dt);
+    store_contacts<Law>(slots, ref.k, p, ref.i, ref.j, found, ref.flipped,
+                        table(p.material(ref.i), p.material(ref.j)), dt);
+  };
+  const auto body = KOKKOS_LAMBDA(int s, NarrowPhaseTally& tally) {
+    if (todo.skipped(s))
+      return;
+    const PairRef ref = pair_ref(s);
+    PairContacts<K> found;
+    const PairOutcome outcome = narrow(ref, found, tally);
+    apply(ref, outcome, found);
   };
   const auto untallied = KOKKOS_LAMBDA(int s) {
     NarrowPhaseTally unused;
     body(s, unused);
   };
-  if constexpr (Narrow::tallied) {
+  constexpr int W = lane_width_of<Narrow>::value;
+  if constexpr (W > 1) {
+    static_assert(Narrow::tallied, "the pair types solved in lanes are tallied");
+    const int count = todo.rows.count;
+    const auto group = [=](int g, NarrowPhaseTally& tally) {
+      PairRef refs[W];
+      PairContacts<K> found[W];
+      PairOutcome outcomes[W];
+      int taken = 0;
+      for (int s = g * W; s < count && s < (g + 1) * W; ++s)
+        if (!todo.skipped(s))
+          refs[taken++] = pair_ref(s);
+      narrow(refs, taken, found, outcomes, tally);
+      for (int q = 0; q < taken; ++q)
+        apply(refs[q], outcomes[q], found[q]);
+    };
+    reduce_over_items<NarrowPhaseTally>(Narrow::label, (count + W - 1) / W, narrow.team_size, group,
+                                        c.counters.reducer());
+    c.counters.add_kernel_tally();
+  } else if constexpr (Narrow::tallied) {
     reduce_over_items<NarrowPhaseTally>(Narrow::label, todo.rows.count, narrow.team_size, body,
                                         c.counters.reducer());
     c.counters.add_kernel_tally();

@@ -20,7 +20,8 @@ struct SuperquadricContactSettings {
   bool box_certificates = true;        // the box test's gap certifies too (needs the above)
   bool compact_candidates = true;      // see superquadric_pairs_in_reach
   bool extrapolate_start = true;       // see NarrowPhase<SuperquadricFamily, SuperquadricFamily>
-  int team_size = 0;                   // of the narrow-phase kernel, see reduce_over_items
+  bool lanes = true; // host: see NarrowPhase<SuperquadricFamily, SuperquadricFamily>
+  int team_size = 0; // of the narrow-phase kernel, see reduce_over_items
 };
 
 struct SuperquadricWallContactOf;

@@ -11,6 +11,7 @@
 //     within bounding-sphere reach and without a valid separation certificate.
 // Included only by the translation units of kernels/pairs/.
 #include "../../shapes/superquadric_contact.hpp"
+#include "../../shapes/superquadric_lanes.hpp"
 #include "../../shapes/superquadric_properties.hpp"
 #include "../families/pair_loop.hpp"
 
@@ -159,6 +160,7 @@ struct SuperquadricPairState {
   NarrowPhaseControls controls;
   double limit = 2;
   bool extrapolate = true;
+  bool use_lanes = true;
   int team_size = 0;
 
   explicit SuperquadricPairState(const ContactContext& c)
@@ -167,7 +169,8 @@ struct SuperquadricPairState {
         step(c.pairs.midway_step),
         certificates(c.particles, c.pairs, table.settings.separation_certificates),
         controls(table.settings.newton), limit(table.settings.curvature_limit),
-        extrapolate(table.settings.extrapolate_start), team_size(table.settings.team_size) {}
+        extrapolate(table.settings.extrapolate_start), use_lanes(table.settings.lanes),
+        team_size(table.settings.team_size) {}
 
   // The stored point is relative to the midpoint of the two centres, so that it moves with the
   // pair's mean translation (and is the same for both orders of i and j).
@@ -230,23 +233,92 @@ template <> struct NarrowPhase<SuperquadricFamily, SuperquadricFamily> : Superqu
   // extrapolation leaves one Newton iteration (within the tolerance) where the last point often
   // needed two (measured in docs/performance.md, section 17). Any start that converges gives the
   // same point (see superquadric_pair_contact), so only the iteration count depends on it.
-  KOKKOS_INLINE_FUNCTION PairOutcome operator()(const PairRef& r, PairContacts<1>& found,
-                                                NarrowPhaseTally& tally) const {
+  struct Start {
+    Vec3 midpoint, last;
+    MidwayState state;
+  };
+  KOKKOS_INLINE_FUNCTION Start start_of(const PairRef& r) const {
     const int slot = slots.first(r.k);
-    const Vec3 midpoint = centres_midpoint(r.i, r.j);
-    const Vec3 last = load3(point, slot);
-    const double last_multiplier = multiplier(slot);
+    Start s;
+    s.midpoint = centres_midpoint(r.i, r.j);
+    s.last = load3(point, slot);
     const Vec3 ahead = extrapolate ? load3(step, slot) : Vec3{0, 0, 0};
-    const MidwayState start{last + ahead + midpoint, last_multiplier};
-    const NarrowPhaseResult result =
-        superquadric_pair_contact(SuperquadricFamily::pose(table, shapes, p, r.i),
-                                  SuperquadricFamily::pose(table, shapes, p, r.j), start, controls);
-    const bool continued = last_multiplier > 0 && result.status == 0;
-    store3(step, slot, continued ? result.state.point - midpoint - last : Vec3{0, 0, 0});
-    return record(r, result, midpoint,
+    s.state = MidwayState{s.last + ahead + s.midpoint, multiplier(slot)};
+    return s;
+  }
+
+  KOKKOS_INLINE_FUNCTION PairOutcome finish(const PairRef& r, const Start& start,
+                                            const NarrowPhaseResult& result, PairContacts<1>& found,
+                                            NarrowPhaseTally& tally) const {
+    const bool continued = start.state.multiplier > 0 && result.status == 0;
+    store3(step, slots.first(r.k),
+           continued ? result.state.point - start.midpoint - start.last : Vec3{0, 0, 0});
+    return record(r, result, start.midpoint,
                   pair_equivalent_radius<SuperquadricFamily, SuperquadricFamily>(r.i, r.j), found,
                   tally);
   }
+
+  KOKKOS_INLINE_FUNCTION PairOutcome operator()(const PairRef& r, PairContacts<1>& found,
+                                                NarrowPhaseTally& tally) const {
+    const Start start = start_of(r);
+    const NarrowPhaseResult result = superquadric_pair_contact(
+        SuperquadricFamily::pose(table, shapes, p, r.i),
+        SuperquadricFamily::pose(table, shapes, p, r.j), start.state, controls);
+    return finish(r, start, result, found, tally);
+  }
+
+#if KDEM_HOST_LANES
+  // Host engines take the pairs four at a time: four pairs of one shape pair, all with a warm
+  // start, are solved in lock step (shapes/superquadric_lanes.hpp), and what the lanes leave
+  // is solved pair by pair as above. Which pairs share a group depends only on the order of the
+  // compacted survivors, the same for every host backend.
+  static constexpr int lane_width = lanes::width;
+
+  void operator()(const PairRef* refs, int count, PairContacts<1>* found, PairOutcome* outcomes,
+                  NarrowPhaseTally& tally) const {
+    if (use_lanes && count == lane_width && lanes_apply(refs)) {
+      solve_in_lanes(refs, found, outcomes, tally);
+      return;
+    }
+    for (int q = 0; q < count; ++q)
+      outcomes[q] = (*this)(refs[q], found[q], tally);
+  }
+
+  bool lanes_apply(const PairRef* refs) const {
+    const int shape_i = shapes.template_index(p.shape(refs[0].i));
+    const int shape_j = shapes.template_index(p.shape(refs[0].j));
+    for (int q = 0; q < lane_width; ++q)
+      if (shapes.template_index(p.shape(refs[q].i)) != shape_i ||
+          shapes.template_index(p.shape(refs[q].j)) != shape_j ||
+          !(multiplier(slots.first(refs[q].k)) > 0))
+        return false;
+    return true;
+  }
+
+  void solve_in_lanes(const PairRef* refs, PairContacts<1>* found, PairOutcome* outcomes,
+                      NarrowPhaseTally& tally) const {
+    Start starts[lane_width];
+    lanes::PairInputs in;
+    for (int q = 0; q < lane_width; ++q) {
+      starts[q] = start_of(refs[q]);
+      lanes::set_lane(in, q, load3(p.position, refs[q].i),
+                      rotation_matrix(load_quat(p.orientation, refs[q].i)),
+                      load3(p.position, refs[q].j),
+                      rotation_matrix(load_quat(p.orientation, refs[q].j)), starts[q].state);
+    }
+    const SuperquadricShape& shape_i = table.shapes(shapes.template_index(p.shape(refs[0].i)));
+    const SuperquadricShape& shape_j = table.shapes(shapes.template_index(p.shape(refs[0].j)));
+    NarrowPhaseResult results[lane_width];
+    const int solved = lanes::superquadric_pair_contact(shape_i, shape_j, in, controls, results);
+    for (int q = 0; q < lane_width; ++q) {
+      if (!(solved & (1 << q)))
+        results[q] = superquadric_pair_contact(
+            SuperquadricFamily::pose(table, shapes, p, refs[q].i),
+            SuperquadricFamily::pose(table, shapes, p, refs[q].j), starts[q].state, controls);
+      outcomes[q] = finish(refs[q], starts[q], results[q], found[q], tally);
+    }
+  }
+#endif
 };
 
 // The sphere is body a of the narrow phase (the loop turns the normal back when it is j).

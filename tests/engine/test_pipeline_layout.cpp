@@ -2,7 +2,10 @@
 // what is computed. Compaction of the superquadric candidates and the team size of the
 // narrow-phase kernels only move a pair to another lane, so whole runs must agree bit for bit;
 // without the sort by cell the same forces are summed in another order, so runs agree to
-// rounding.
+// rounding. With the host lanes of the superquadric narrow phase, compaction also decides which
+// four pairs are solved together (a pair solved in lanes or alone agrees to the Newton
+// tolerance, not bit for bit: test_superquadric_lanes.cpp), so compaction is compared with the
+// lanes off, the team size with them on.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -16,11 +19,12 @@
 namespace kdem::testing {
 namespace {
 
-RunOutcome run_small_superquadrics(bool compact, int team_size, int steps) {
+RunOutcome run_small_superquadrics(bool compact, int team_size, int steps, bool lanes) {
   SceneConfig scene = cli_scene("small_superquadrics");
   SuperquadricContactConfig& contact = modify_superquadric_contact(scene);
   contact.compact_candidates = compact;
   contact.team_size = team_size;
+  contact.lanes = lanes;
   return run_steps(scene, steps);
 }
 
@@ -42,13 +46,17 @@ void expect_identical(const RunOutcome& a, const RunOutcome& b, const std::strin
 // and leave contact and the box tests reject some candidates every step.
 TEST(PipelineLayout, CompactionAndTeamSizeDoNotChangeResults) {
   const int steps = 2000;
-  const RunOutcome reference = run_small_superquadrics(true, 0, steps);
+  const RunOutcome reference = run_small_superquadrics(true, 0, steps, false);
   ASSERT_GT(reference.totals.evaluations, 0) << "the scene evaluated no superquadric pair";
-  expect_identical(reference, run_small_superquadrics(false, 0, steps), "without compaction");
-  expect_identical(reference, run_small_superquadrics(true, 1, steps), "teams of 1");
-  expect_identical(reference, run_small_superquadrics(true, 2, steps), "teams of 2");
-  expect_identical(reference, run_small_superquadrics(false, 64, steps),
+  expect_identical(reference, run_small_superquadrics(false, 0, steps, false),
+                   "without compaction");
+  expect_identical(reference, run_small_superquadrics(true, 1, steps, false), "teams of 1");
+  expect_identical(reference, run_small_superquadrics(false, 64, steps, false),
                    "no compaction, teams of 64 (clamped)");
+  const RunOutcome in_lanes = run_small_superquadrics(true, 0, steps, true);
+  expect_identical(in_lanes, run_small_superquadrics(true, 2, steps, true), "lanes, teams of 2");
+  expect_identical(in_lanes, run_small_superquadrics(true, 64, steps, true),
+                   "lanes, teams of 64 (clamped)");
 }
 
 RunOutcome run_scene_sorted(const std::string& name, bool sort_by_cell, int steps) {
