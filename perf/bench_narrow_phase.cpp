@@ -188,7 +188,7 @@ NarrowPhaseResult solve_in_lanes(const PosePair& pair, const MidwayState& start,
                                  const NarrowPhaseControls& controls) {
   lanes::PairInputs in;
   for (int l = 0; l < lanes::width; ++l)
-    lanes::set_lane(in, l, pair.i.centre, pair.i.rotation, pair.j.centre, pair.j.rotation, start);
+    lanes::set_lane(in, l, pair.i, pair.j, start);
   NarrowPhaseResult results[lanes::width];
   if (lanes::superquadric_pair_contact(pair.i.shape, pair.j.shape, in, controls, results) & 1)
     return results[0];

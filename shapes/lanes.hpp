@@ -45,7 +45,7 @@ inline Real abs(Real x) {
   return (Real)((Mask)x & magnitude);
 }
 inline Real sqrt(Real x) {
-  Real r;
+  Real r{};
   for (int l = 0; l < width; ++l)
     r[l] = std::sqrt(x[l]);
   return r;
@@ -126,6 +126,22 @@ inline Vec transpose_times(const Rotation& a, const Vec& v) { // as kdem::transp
   return {a.m[0][0] * v.x + a.m[1][0] * v.y + a.m[2][0] * v.z,
           a.m[0][1] * v.x + a.m[1][1] * v.y + a.m[2][1] * v.z,
           a.m[0][2] * v.x + a.m[1][2] * v.y + a.m[2][2] * v.z};
+}
+
+// Body-to-world rotation matrices of unit quaternions (w, x, y, z) per lane, as
+// kdem::rotation_matrix.
+inline Rotation rotation_matrix(Real w, Real x, Real y, Real z) {
+  Rotation r;
+  r.m[0][0] = 1 - 2 * (y * y + z * z);
+  r.m[0][1] = 2 * (x * y - w * z);
+  r.m[0][2] = 2 * (x * z + w * y);
+  r.m[1][0] = 2 * (x * y + w * z);
+  r.m[1][1] = 1 - 2 * (x * x + z * z);
+  r.m[1][2] = 2 * (y * z - w * x);
+  r.m[2][0] = 2 * (x * z - w * y);
+  r.m[2][1] = 2 * (y * z + w * x);
+  r.m[2][2] = 1 - 2 * (x * x + y * y);
+  return r;
 }
 
 } // namespace kdem::lanes

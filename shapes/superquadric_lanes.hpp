@@ -74,7 +74,7 @@ inline Real integer_power(Real t, int k) { // as kdem::integer_power
 }
 
 inline Real lane_pow(Real t, double exponent) {
-  Real r;
+  Real r{};
   for (int l = 0; l < width; ++l)
     r[l] = std::pow(t[l], exponent);
   return r;
@@ -405,27 +405,39 @@ inline void set_lane(Vec& v, int l, Vec3 x) {
   v.x[l] = x.x, v.y[l] = x.y, v.z[l] = x.z;
 }
 
-// Lane l of the inputs: the two bodies' poses and the start.
-inline void set_lane(PairInputs& in, int l, Vec3 centre_i, const Mat3& rotation_i, Vec3 centre_j,
-                     const Mat3& rotation_j, const MidwayState& start) {
+inline void set_lane(Rotation& r, int l, const Mat3& rotation) {
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b)
+      r.m[a][b][l] = rotation.m[a][b];
+}
+
+// Lane l of the inputs but the rotations: the two centres and the start.
+inline void set_lane(PairInputs& in, int l, Vec3 centre_i, Vec3 centre_j,
+                     const MidwayState& start) {
   set_lane(in.i.centre, l, centre_i);
   set_lane(in.j.centre, l, centre_j);
-  for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b) {
-      in.i.rotation.m[a][b][l] = rotation_i.m[a][b];
-      in.j.rotation.m[a][b][l] = rotation_j.m[a][b];
-    }
   set_lane(in.start_point, l, start.point);
   in.start_multiplier[l] = start.multiplier;
+}
+
+// Lane l of the inputs: the two posed bodies and the start.
+inline void set_lane(PairInputs& in, int l, const PosedSuperquadric& i, const PosedSuperquadric& j,
+                     const MidwayState& start) {
+  set_lane(in, l, i.centre, j.centre, start);
+  set_lane(in.i.rotation, l, i.rotation);
+  set_lane(in.j.rotation, l, j.rotation);
 }
 
 // Solves the lanes of `in` as superquadric_pair_contact would from the warm start; returns the
 // lanes solved here (bit l for lane l), whose results are in `out`. The other lanes are for the
 // scalar solve.
-inline int superquadric_pair_contact(const SuperquadricShape& shape_i,
-                                     const SuperquadricShape& shape_j, const PairInputs& in,
-                                     const NarrowPhaseControls& controls,
-                                     NarrowPhaseResult (&out)[width]) {
+// Compiled whole (KDEM_WHOLE_FUNCTION), as the scalar narrow phases: the same instructions in the
+// Serial and OpenMP engines.
+KDEM_WHOLE_FUNCTION int superquadric_pair_contact(const SuperquadricShape& shape_i,
+                                                  const SuperquadricShape& shape_j,
+                                                  const PairInputs& in,
+                                                  const NarrowPhaseControls& controls,
+                                                  NarrowPhaseResult (&out)[width]) {
   const double length = math::min(math::min(shape_i.a, math::min(shape_i.b, shape_i.c)),
                                   math::min(shape_j.a, math::min(shape_j.b, shape_j.c)));
   const MidwayPair pair{shape_i, shape_j, in.i, in.j, length, controls.tolerance};

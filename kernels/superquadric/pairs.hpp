@@ -299,13 +299,20 @@ template <> struct NarrowPhase<SuperquadricFamily, SuperquadricFamily> : Superqu
                       NarrowPhaseTally& tally) const {
     Start starts[lane_width];
     lanes::PairInputs in;
+    lanes::Real quaternion_i[4], quaternion_j[4]; // w, x, y, z
     for (int q = 0; q < lane_width; ++q) {
       starts[q] = start_of(refs[q]);
-      lanes::set_lane(in, q, load3(p.position, refs[q].i),
-                      rotation_matrix(load_quat(p.orientation, refs[q].i)),
-                      load3(p.position, refs[q].j),
-                      rotation_matrix(load_quat(p.orientation, refs[q].j)), starts[q].state);
+      lanes::set_lane(in, q, load3(p.position, refs[q].i), load3(p.position, refs[q].j),
+                      starts[q].state);
+      for (int c = 0; c < 4; ++c) {
+        quaternion_i[c][q] = p.orientation(refs[q].i, c);
+        quaternion_j[c][q] = p.orientation(refs[q].j, c);
+      }
     }
+    in.i.rotation =
+        lanes::rotation_matrix(quaternion_i[0], quaternion_i[1], quaternion_i[2], quaternion_i[3]);
+    in.j.rotation =
+        lanes::rotation_matrix(quaternion_j[0], quaternion_j[1], quaternion_j[2], quaternion_j[3]);
     const SuperquadricShape& shape_i = table.shapes(shapes.template_index(p.shape(refs[0].i)));
     const SuperquadricShape& shape_j = table.shapes(shapes.template_index(p.shape(refs[0].j)));
     NarrowPhaseResult results[lane_width];

@@ -29,8 +29,7 @@ struct LanePoses {
 lanes::PairInputs lane_inputs(const LanePoses& poses, const MidwayState (&start)[width]) {
   lanes::PairInputs in;
   for (int l = 0; l < width; ++l)
-    lanes::set_lane(in, l, poses.i[l].centre, poses.i[l].rotation, poses.j[l].centre,
-                    poses.j[l].rotation, start[l]);
+    lanes::set_lane(in, l, poses.i[l], poses.j[l], start[l]);
   return in;
 }
 
