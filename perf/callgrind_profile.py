@@ -10,30 +10,41 @@ import re
 import subprocess
 from collections import defaultdict
 
-# FP64 operations per executed instruction (scalar sd: 1, 128-bit packed pd: 2, fused
-# multiply-add counts two). Compares, moves, logic (abs, negation) and conversions are not
-# arithmetic and count zero, as in the usual flop conventions.
+# FP64 operations per executed instruction (scalar sd: 1, packed pd: 2, 4 or 8 for 128-, 256-
+# and 512-bit registers, fused multiply-add counts two). Compares, moves, logic (abs, negation)
+# and conversions are not arithmetic and count zero, as in the usual flop conventions.
 _FP_ARITHMETIC = ("add", "sub", "mul", "div", "sqrt", "min", "max")
 
 
-def fp64_operations(mnemonic):
+def fp64_operations(mnemonic, packed_lanes=2):
+    """packed_lanes: doubles in the instruction's register (2 xmm, 4 ymm, 8 zmm)."""
     m = mnemonic.lower()
     if m.startswith("v"):
         m = m[1:]
     fused = re.match(r"f(n?)m(add|sub)(sub|add)?(132|213|231)(sd|pd)$", m)
     if fused:
-        return 2 if fused.group(5) == "sd" else 4
+        return 2 if fused.group(5) == "sd" else 2 * packed_lanes
     for op in _FP_ARITHMETIC:
         if m == op + "sd":
             return 1
         if m == op + "pd":
-            return 2
+            return packed_lanes
     return 0
+
+
+def packed_lanes_of(operands):
+    """Doubles per register of an instruction from its operand text (objdump syntax)."""
+    if "%zmm" in operands:
+        return 8
+    if "%ymm" in operands:
+        return 4
+    return 2
 
 
 class Disassembly:
     """Mnemonic at each instruction address of an object file (addresses as callgrind reports
-    them: the file's virtual addresses, also for shared libraries)."""
+    them: the file's virtual addresses, also for shared libraries), with the doubles per register
+    of its operands (packed_lanes_of)."""
 
     def __init__(self):
         self._objects = {}
@@ -46,11 +57,12 @@ class Disassembly:
                                       capture_output=True, text=True, check=True).stdout
             except (OSError, subprocess.CalledProcessError):
                 text = ""
-            line = re.compile(r"^\s*([0-9a-f]+):\s+(?:\S+ )?\s*([a-z][a-z0-9.]*)")
+            line = re.compile(r"^\s*([0-9a-f]+):\s+(?:\S+ )?\s*([a-z][a-z0-9.]*)(.*)$")
             for row in text.splitlines():
                 found = line.match(row)
                 if found:
-                    table[int(found.group(1), 16)] = found.group(2)
+                    table[int(found.group(1), 16)] = (found.group(2),
+                                                       packed_lanes_of(found.group(3)))
             self._objects[path] = table
         return self._objects[path]
 
@@ -154,9 +166,10 @@ class Profile:
         for (obj, address), executions in self.self_by_address.get(fn, {}).items():
             if obj is None:
                 continue
-            mnemonic = disassembly.mnemonics(obj).get(address)
-            if mnemonic:
-                total += executions * fp64_operations(mnemonic)
+            instruction = disassembly.mnemonics(obj).get(address)
+            if instruction:
+                mnemonic, packed_lanes = instruction
+                total += executions * fp64_operations(mnemonic, packed_lanes)
         return total
 
 
