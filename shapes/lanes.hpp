@@ -11,6 +11,8 @@
 // handle is handed to the scalar code.
 #include <cmath>
 
+#include "mat3.hpp"
+
 #if !defined(__CUDACC__) && (defined(__GNUC__) || defined(__clang__))
 #define KDEM_HOST_LANES 1
 #else
@@ -132,15 +134,7 @@ inline Vec transpose_times(const Rotation& a, const Vec& v) { // as kdem::transp
 // kdem::rotation_matrix.
 inline Rotation rotation_matrix(Real w, Real x, Real y, Real z) {
   Rotation r;
-  r.m[0][0] = 1 - 2 * (y * y + z * z);
-  r.m[0][1] = 2 * (x * y - w * z);
-  r.m[0][2] = 2 * (x * z + w * y);
-  r.m[1][0] = 2 * (x * y + w * z);
-  r.m[1][1] = 1 - 2 * (x * x + z * z);
-  r.m[1][2] = 2 * (y * z - w * x);
-  r.m[2][0] = 2 * (x * z - w * y);
-  r.m[2][1] = 2 * (y * z + w * x);
-  r.m[2][2] = 1 - 2 * (x * x + y * y);
+  rotation_entries(w, x, y, z, r.m);
   return r;
 }
 

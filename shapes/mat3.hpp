@@ -68,19 +68,24 @@ KOKKOS_INLINE_FUNCTION Vec3 column(const Mat3& a, int k) {
   return {a.m[0][k], a.m[1][k], a.m[2][k]};
 }
 
+// The entries of the body-to-world rotation matrix of a unit quaternion (w, x, y, z), row-major.
+// T: double, or the lanes of shapes/lanes.hpp.
+template <class T> KOKKOS_INLINE_FUNCTION void rotation_entries(T w, T x, T y, T z, T (&m)[3][3]) {
+  m[0][0] = 1 - 2 * (y * y + z * z);
+  m[0][1] = 2 * (x * y - w * z);
+  m[0][2] = 2 * (x * z + w * y);
+  m[1][0] = 2 * (x * y + w * z);
+  m[1][1] = 1 - 2 * (x * x + z * z);
+  m[1][2] = 2 * (y * z - w * x);
+  m[2][0] = 2 * (x * z - w * y);
+  m[2][1] = 2 * (y * z + w * x);
+  m[2][2] = 1 - 2 * (x * x + y * y);
+}
+
 // Body-to-world rotation matrix of a unit quaternion: rotation_matrix(q) * v == rotate(q, v).
 KOKKOS_INLINE_FUNCTION Mat3 rotation_matrix(Quat q) {
   Mat3 r;
-  const double w = q.w, x = q.x, y = q.y, z = q.z;
-  r.m[0][0] = 1 - 2 * (y * y + z * z);
-  r.m[0][1] = 2 * (x * y - w * z);
-  r.m[0][2] = 2 * (x * z + w * y);
-  r.m[1][0] = 2 * (x * y + w * z);
-  r.m[1][1] = 1 - 2 * (x * x + z * z);
-  r.m[1][2] = 2 * (y * z - w * x);
-  r.m[2][0] = 2 * (x * z - w * y);
-  r.m[2][1] = 2 * (y * z + w * x);
-  r.m[2][2] = 1 - 2 * (x * x + y * y);
+  rotation_entries(q.w, q.x, q.y, q.z, r.m);
   return r;
 }
 

@@ -47,31 +47,32 @@ KOKKOS_INLINE_FUNCTION SuperquadricShape make_superquadric(double a, double b, d
 }
 
 // t^k for t >= 0 and a small non-negative integer k: the powers of the common blockiness values
-// (n - 2 for n = 2, 3, 4, 6, 8, 10) written out, the others by squaring.
-KOKKOS_INLINE_FUNCTION double integer_power(double t, int k) {
+// (n - 2 for n = 2, 3, 4, 6, 8, 10) written out, the others by squaring. T: double, or the
+// lanes of shapes/lanes.hpp (T{} + 1.0 is one in every lane).
+template <class T> KOKKOS_INLINE_FUNCTION T integer_power(T t, int k) {
   switch (k) {
   case 0:
-    return 1.0;
+    return T{} + 1.0;
   case 1:
     return t;
   case 2:
     return t * t;
   case 4: {
-    const double t2 = t * t;
+    const T t2 = t * t;
     return t2 * t2;
   }
   case 6: {
-    const double t2 = t * t;
+    const T t2 = t * t;
     return t2 * t2 * t2;
   }
   case 8: {
-    const double t2 = t * t, t4 = t2 * t2;
+    const T t2 = t * t, t4 = t2 * t2;
     return t4 * t4;
   }
   default:
     break;
   }
-  double result = 1.0;
+  T result = T{} + 1.0;
   while (k > 0) {
     if (k & 1)
       result *= t;

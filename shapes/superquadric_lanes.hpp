@@ -40,39 +40,6 @@ inline ShapeFunction select(Mask m, const ShapeFunction& a, const ShapeFunction&
           select(m, a.hyy, b.hyy),     select(m, a.hxy, b.hxy),           select(m, a.hzz, b.hzz)};
 }
 
-inline Real integer_power(Real t, int k) { // as kdem::integer_power
-  switch (k) {
-  case 0:
-    return splat(1.0);
-  case 1:
-    return t;
-  case 2:
-    return t * t;
-  case 4: {
-    const Real t2 = t * t;
-    return t2 * t2;
-  }
-  case 6: {
-    const Real t2 = t * t;
-    return t2 * t2 * t2;
-  }
-  case 8: {
-    const Real t2 = t * t, t4 = t2 * t2;
-    return t4 * t4;
-  }
-  default:
-    break;
-  }
-  Real result = splat(1.0);
-  while (k > 0) {
-    if (k & 1)
-      result *= t;
-    t *= t;
-    k >>= 1;
-  }
-  return result;
-}
-
 inline Real lane_pow(Real t, double exponent) {
   Real r{};
   for (int l = 0; l < width; ++l)

@@ -34,6 +34,14 @@ inline Vec3 random_unit(std::mt19937_64& rng) {
   return (1.0 / norm(v)) * v;
 }
 
+// A random unit vector perpendicular to the unit vector `direction`: a random_unit draw with its
+// component along `direction` removed, normalised.
+inline Vec3 random_unit_perpendicular(std::mt19937_64& rng, Vec3 direction) {
+  Vec3 v = random_unit(rng);
+  v = v - dot(v, direction) * direction;
+  return (1.0 / norm(v)) * v;
+}
+
 // Uniform over rotations: a normalised Gaussian quaternion.
 inline Quat random_rotation(std::mt19937_64& rng) {
   std::normal_distribution<double> gauss;

@@ -601,9 +601,7 @@ std::vector<std::vector<PairCase>> moving_sequences(int count, int poses) {
     const Quat qi = random_rotation(rng), qj = random_rotation(rng);
     const Vec3 spin_i = 0.5 * random_unit(rng), spin_j = 0.8 * random_unit(rng);
     const Vec3 direction = random_unit(rng);
-    Vec3 offset = random_unit(rng);
-    offset = offset - dot(offset, direction) * direction;
-    offset = (1.0 / norm(offset)) * offset;
+    const Vec3 offset = random_unit_perpendicular(rng, direction);
     std::vector<PairCase> sequence;
     for (int p = 0; p < poses; ++p) {
       const double t = double(p) / (poses - 1);

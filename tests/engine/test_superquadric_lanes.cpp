@@ -6,9 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <iostream>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "shapes/superquadric_lanes.hpp"
@@ -45,9 +47,7 @@ std::vector<LanePoses> moving_lanes(const SuperquadricShape& si, const Superquad
     const Quat qi = random_rotation(rng), qj = random_rotation(rng);
     const Vec3 spin_i = 0.5 * random_unit(rng), spin_j = 0.8 * random_unit(rng);
     const Vec3 direction = random_unit(rng);
-    Vec3 offset = random_unit(rng);
-    offset = offset - dot(offset, direction) * direction;
-    offset = (1.0 / norm(offset)) * offset;
+    const Vec3 offset = random_unit_perpendicular(rng, direction);
     const double miss = uniform(rng, 0.7, 1.0) * gap; // passes through the others' reach
     for (int p = 0; p < poses; ++p) {
       const double t = double(p) / (poses - 1);
@@ -86,9 +86,7 @@ std::vector<LanePoses> bed_contacts(const SuperquadricShape& si, const Superquad
     const Quat qi = random_rotation(rng), qj = random_rotation(rng);
     const Vec3 spin_i = 0.2 * random_unit(rng), spin_j = 0.2 * random_unit(rng);
     const Vec3 direction = random_unit(rng);
-    Vec3 slide = random_unit(rng);
-    slide = slide - dot(slide, direction) * direction;
-    slide = (0.1 * size / norm(slide)) * slide;
+    const Vec3 slide = (0.1 * size) * random_unit_perpendicular(rng, direction);
     const double contact = touching_distance(si, qi, sj, qj, direction);
     for (int p = 0; p < poses; ++p) {
       const double t = double(p) / (poses - 1);
@@ -208,34 +206,39 @@ void print(const Comparison& c, const std::string& name) {
             << c.separation << "\n";
 }
 
+// Runs `groups` sequences of four pairs made by make_sequence for every shape pair.
+template <class MakeSequence>
+std::vector<std::pair<std::string, Comparison>> compare_shape_pairs(std::uint64_t seed, int groups,
+                                                                    const std::string& what,
+                                                                    MakeSequence make_sequence) {
+  std::mt19937_64 rng(seed);
+  std::vector<std::pair<std::string, Comparison>> all;
+  for (const ShapePair& shapes : shape_pairs()) {
+    Comparison c;
+    for (int group = 0; group < groups; ++group)
+      compare_sequence(shapes.i, shapes.j, make_sequence(shapes.i, shapes.j, 200, rng), c);
+    print(c, shapes.name + " " + what);
+    expect_agreement(c, shapes.name);
+    all.emplace_back(shapes.name, c);
+  }
+  return all;
+}
+
 // Pairs passing through each other (overlaps up to a third of the size, fast turns): the lanes
 // hand back much of the deep part (crossings that need more than four steps), and what they
 // solve agrees with the scalar solve.
 TEST(SuperquadricLanes, LanesMatchTheScalarSolveOnPairsPassingThrough) {
-  std::mt19937_64 rng(77);
-  for (const ShapePair& shapes : shape_pairs()) {
-    Comparison c;
-    for (int group = 0; group < 6; ++group)
-      compare_sequence(shapes.i, shapes.j, moving_lanes(shapes.i, shapes.j, 200, rng), c);
-    print(c, shapes.name + " passing through");
-    EXPECT_GT(c.touching, 500) << shapes.name << ": too few contacts to compare";
-    expect_agreement(c, shapes.name);
-  }
+  for (const auto& [name, c] : compare_shape_pairs(77, 6, "passing through", moving_lanes))
+    EXPECT_GT(c.touching, 500) << name << ": too few contacts to compare";
 }
 
 // Contacts as in a bed (overlaps up to 5 % of the size, slow sliding and turning): nearly every
 // warm-started touching pair is solved in lanes, as in the engine's settled beds (99.7 % of the
 // pairs, docs/performance.md section 22).
 TEST(SuperquadricLanes, LanesSolveBedContactsAsTheScalarSolveDoes) {
-  std::mt19937_64 rng(78);
-  for (const ShapePair& shapes : shape_pairs()) {
-    Comparison c;
-    for (int group = 0; group < 4; ++group)
-      compare_sequence(shapes.i, shapes.j, bed_contacts(shapes.i, shapes.j, 200, rng), c);
-    print(c, shapes.name + " in a bed");
-    EXPECT_GT(c.warm_touching, 1000) << shapes.name << ": too few contacts to compare";
-    EXPECT_GT(c.warm_touching_in_lanes, 0.95 * c.warm_touching) << shapes.name;
-    expect_agreement(c, shapes.name);
+  for (const auto& [name, c] : compare_shape_pairs(78, 4, "in a bed", bed_contacts)) {
+    EXPECT_GT(c.warm_touching, 1000) << name << ": too few contacts to compare";
+    EXPECT_GT(c.warm_touching_in_lanes, 0.95 * c.warm_touching) << name;
   }
 }
 
