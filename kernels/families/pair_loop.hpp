@@ -137,6 +137,7 @@ void compute_pair_type(const ContactContext& c, PairTypeRows& type_rows) {
   if constexpr (W > 1) {
     static_assert(Narrow::tallied, "the pair types solved in lanes are tallied");
     const int count = todo.rows.count;
+    // A host lambda: lane widths above 1 exist only in host builds (shapes/lanes.hpp).
     const auto group = [=](int g, NarrowPhaseTally& tally) {
       PairRef refs[W];
       PairContacts<K> found[W];
