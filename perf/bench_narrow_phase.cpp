@@ -182,59 +182,57 @@ KOKKOS_INLINE_FUNCTION Outcome outcome_of(const NarrowPhaseResult& r) {
   return o;
 }
 
-#if KDEM_HOST_LANES
-// As the host engine: in lanes, by the scalar solve where they hand the pair back.
-NarrowPhaseResult solve_in_lanes(const PosePair& pair, const MidwayState& start,
-                                 const NarrowPhaseControls& controls) {
-  lanes::PairInputs in;
-  for (int l = 0; l < lanes::width; ++l)
-    lanes::set_lane(in, l, pair.i, pair.j, start);
-  NarrowPhaseResult results[lanes::width];
-  if (lanes::superquadric_pair_contact(pair.i.shape, pair.j.shape, in, controls, results) & 1)
-    return results[0];
-  return superquadric_pair_contact(pair.i, pair.j, start, controls);
-}
-
-void evaluate_in_lanes(const DeviceSet& set, const NarrowPhaseControls& controls,
-                       Kokkos::View<Outcome*, MemSpace> outcomes) {
-  const auto pairs = set.pairs;
-  const int poses = set.poses;
-  const bool warm = set.warm_start;
-  Kokkos::parallel_for("narrow_phase_bench_lanes", Kokkos::RangePolicy<ExecSpace>(0, set.sequences),
-                       [=](int s) {
-                         MidwayState state;
-                         for (int p = 0; p < poses; ++p) {
-                           const int k = s * poses + p;
-                           const NarrowPhaseResult r =
-                               solve_in_lanes(pairs(k), warm ? state : MidwayState{}, controls);
-                           outcomes(k) = outcome_of(r);
-                           state = r.status == 2 ? MidwayState{} : r.state;
-                         }
-                       });
-}
-#endif
-
-// One pass over the set: sequences in parallel, the poses of a sequence in order.
-void evaluate(const DeviceSet& set, const NarrowPhaseControls& controls,
-              Kokkos::View<Outcome*, MemSpace> outcomes, bool in_lanes = false) {
-#if KDEM_HOST_LANES
-  if (in_lanes)
-    return evaluate_in_lanes(set, controls, outcomes);
-#endif
+// One pass over the set: sequences in parallel, the poses of a sequence in order, each pose
+// solved by solve(pair, start) from the last pose's state when the set is warm-started.
+template <class Solve>
+void evaluate_sequences(const char* label, const DeviceSet& set, const Solve& solve,
+                        Kokkos::View<Outcome*, MemSpace> outcomes) {
   const auto pairs = set.pairs;
   const int poses = set.poses;
   const bool warm = set.warm_start;
   Kokkos::parallel_for(
-      "narrow_phase_bench", Kokkos::RangePolicy<ExecSpace>(0, set.sequences), KOKKOS_LAMBDA(int s) {
+      label, Kokkos::RangePolicy<ExecSpace>(0, set.sequences), KOKKOS_LAMBDA(int s) {
         MidwayState state;
         for (int p = 0; p < poses; ++p) {
           const int k = s * poses + p;
-          const NarrowPhaseResult r = superquadric_pair_contact(
-              pairs(k).i, pairs(k).j, warm ? state : MidwayState{}, controls);
+          const NarrowPhaseResult r = solve(pairs(k), warm ? state : MidwayState{});
           outcomes(k) = outcome_of(r);
           state = r.status == 2 ? MidwayState{} : r.state;
         }
       });
+}
+
+struct ScalarSolve {
+  NarrowPhaseControls controls;
+  KOKKOS_INLINE_FUNCTION NarrowPhaseResult operator()(const PosePair& pair,
+                                                      const MidwayState& start) const {
+    return superquadric_pair_contact(pair.i, pair.j, start, controls);
+  }
+};
+
+#if KDEM_HOST_LANES
+// As the host engine: in lanes, by the scalar solve where they hand the pair back.
+struct LaneSolve {
+  NarrowPhaseControls controls;
+  NarrowPhaseResult operator()(const PosePair& pair, const MidwayState& start) const {
+    lanes::PairInputs in;
+    for (int l = 0; l < lanes::width; ++l)
+      lanes::set_lane(in, l, pair.i, pair.j, start);
+    NarrowPhaseResult results[lanes::width];
+    if (lanes::superquadric_pair_contact(pair.i.shape, pair.j.shape, in, controls, results) & 1)
+      return results[0];
+    return superquadric_pair_contact(pair.i, pair.j, start, controls);
+  }
+};
+#endif
+
+void evaluate(const DeviceSet& set, const NarrowPhaseControls& controls,
+              Kokkos::View<Outcome*, MemSpace> outcomes, bool in_lanes = false) {
+#if KDEM_HOST_LANES
+  if (in_lanes)
+    return evaluate_sequences("narrow_phase_bench_lanes", set, LaneSolve{controls}, outcomes);
+#endif
+  evaluate_sequences("narrow_phase_bench", set, ScalarSolve{controls}, outcomes);
 }
 
 // Cold-started solves at 1e-14, retried at 1e-13 and 1e-12 where they do not converge; always

@@ -22,11 +22,10 @@
 #if KDEM_HOST_LANES
 namespace kdem::lanes {
 
-#ifndef KDEM_LANE_WIDTH
-#define KDEM_LANE_WIDTH 4
-#endif
-constexpr int width = KDEM_LANE_WIDTH;
-typedef double Real __attribute__((vector_size(8 * KDEM_LANE_WIDTH)));
+// Four: eight (two AVX2 registers per value) ran at 0.63 of four, the values no longer fitting
+// in the registers (docs/performance.md, section 22).
+constexpr int width = 4;
+typedef double Real __attribute__((vector_size(8 * width)));
 using Mask = decltype(Real{} < Real{}); // what a comparison of lanes gives: 0 or -1 per lane
 
 inline Real splat(double x) {
@@ -34,9 +33,6 @@ inline Real splat(double x) {
 }
 inline Mask no_lane() {
   return Mask{};
-}
-inline Mask all_lanes() {
-  return ~no_lane();
 }
 inline Real select(Mask m, Real a, Real b) { // a where m, else b
   return (Real)((m & (Mask)a) | (~m & (Mask)b));
