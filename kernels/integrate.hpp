@@ -103,29 +103,50 @@ KOKKOS_INLINE_FUNCTION double rotation_angle_bound(Quat a, Quat b) {
 }
 
 // Half kick of velocities, then the drift of positions and orientations; rigid bodies also add
-// the angle they turned to turned_angle.
+// the angle they turned to turned_angle and return how far any point of their surfaces moved at
+// most (|v dt| + turned angle x bounding radius, the bound of the separation certificates);
+// spheres, which no certificate tracks, return 0.
 template <class Rotation = IsotropicRotation>
-void kick_and_drift(const ParticleViews& p, double dt) {
+double kick_and_drift(const ParticleViews& p, double dt) {
   auto x = p.position, v = p.velocity, w = p.angular_velocity;
   auto q = p.orientation;
   auto force = p.force, torque = p.torque;
   auto mass = p.mass;
   auto inertia = p.inertia;
   auto turned = p.turned_angle;
-  Kokkos::parallel_for(
-      "kdem::kick_and_drift", RangePolicy(0, p.count), KOKKOS_LAMBDA(int i) {
-        const Vec3 vi = load3(v, i) + (0.5 * dt / mass(i)) * load3(force, i);
-        store3(v, i, vi);
-        store3(x, i, load3(x, i) + dt * vi);
-        Quat qi = load_quat(q, i);
-        Vec3 wi = load3(w, i);
-        const Quat before = qi;
-        Rotation::kick_and_turn(qi, wi, load3(inertia, i), load3(torque, i), dt);
-        if (Rotation::bounds_turning) // not constexpr: nvcc will not capture in that context
-          turned(i) += rotation_angle_bound(before, qi);
-        store_quat(q, i, qi);
-        store3(w, i, wi);
-      });
+  auto radius = p.radius;
+  const auto advance = KOKKOS_LAMBDA(int i) {
+    const Vec3 vi = load3(v, i) + (0.5 * dt / mass(i)) * load3(force, i);
+    store3(v, i, vi);
+    store3(x, i, load3(x, i) + dt * vi);
+    Quat qi = load_quat(q, i);
+    Vec3 wi = load3(w, i);
+    const Quat before = qi;
+    Rotation::kick_and_turn(qi, wi, load3(inertia, i), load3(torque, i), dt);
+    double travel = dt * norm(vi);
+    if (Rotation::bounds_turning) { // not constexpr: nvcc will not capture in that context
+      const double angle = rotation_angle_bound(before, qi);
+      turned(i) += angle;
+      travel += angle * radius(i);
+    }
+    store_quat(q, i, qi);
+    store3(w, i, wi);
+    return travel;
+  };
+  if (!Rotation::bounds_turning) {
+    Kokkos::parallel_for(
+        "kdem::kick_and_drift", RangePolicy(0, p.count), KOKKOS_LAMBDA(int i) { advance(i); });
+    return 0;
+  }
+  double farthest = 0;
+  Kokkos::parallel_reduce(
+      "kdem::kick_and_drift", RangePolicy(0, p.count),
+      KOKKOS_LAMBDA(int i, double& largest) {
+        const double travel = advance(i);
+        largest = travel > largest ? travel : largest;
+      },
+      Kokkos::Max<double>(farthest));
+  return farthest;
 }
 
 // The second half kick of velocities.
@@ -149,13 +170,13 @@ template <class Rotation = IsotropicRotation> void kick(const ParticleViews& p, 
 // templates, the linker would keep one copy, which may call the other unit's helper before it
 // is set (a call through a null pointer, seen on CUDA). scripts/check_cuda_lambdas.sh guards
 // against a lambda-holding template compiled in two units.
-extern template void kick_and_drift<IsotropicRotation>(const ParticleViews&, double);
-extern template void kick_and_drift<RigidBodyRotation>(const ParticleViews&, double);
+extern template double kick_and_drift<IsotropicRotation>(const ParticleViews&, double);
+extern template double kick_and_drift<RigidBodyRotation>(const ParticleViews&, double);
 extern template void kick<IsotropicRotation>(const ParticleViews&, double);
 extern template void kick<RigidBodyRotation>(const ParticleViews&, double);
 
-inline void kick_and_drift_rigid(const ParticleViews& p, double dt) {
-  kick_and_drift<RigidBodyRotation>(p, dt);
+inline double kick_and_drift_rigid(const ParticleViews& p, double dt) {
+  return kick_and_drift<RigidBodyRotation>(p, dt);
 }
 
 inline void kick_rigid(const ParticleViews& p, double dt) {

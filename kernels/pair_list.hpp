@@ -42,11 +42,13 @@ struct PairList {
   IndexView separating_axis;
   // Separation certificate of a pair that did not touch (see SeparationCertificates): a lower
   // bound on its gap, m (0 = none), and the centre offset x_j - x_i and turned angles of i and j
-  // when it was issued.
+  // when it was issued; and the surface travel (Engine's running sum of the farthest any surface
+  // moved in a step, m) up to which it holds without a look at the bodies (0 = none).
   ScalarView separation_margin;
   Vec3View separation_offset;
   ScalarView turned_i_at_separation;
   ScalarView turned_j_at_separation;
+  ScalarView separation_expiry;
 
   ContactSlots slots() const { return ContactSlots{contact_start}; }
   bool one_slot_per_pair() const { return contact_start.extent(0) == 0; }
@@ -75,6 +77,7 @@ template <class Visitor> void for_each_pair_list_field(Visitor&& visit) {
   visit("separation_offset", &PairList::separation_offset);
   visit("turned_i_at_separation", &PairList::turned_i_at_separation);
   visit("turned_j_at_separation", &PairList::turned_j_at_separation);
+  visit("separation_expiry", &PairList::separation_expiry);
 }
 
 // Calls visit(j) for every particle j after i in the cell order within reach of i, in a fixed
@@ -156,6 +159,7 @@ inline void allocate_narrow_phase_state(PairList& list) {
   list.separation_offset = Vec3View("pair_separation_offset", list.pair_count);
   list.turned_i_at_separation = ScalarView("pair_turned_i_at_separation", list.pair_count);
   list.turned_j_at_separation = ScalarView("pair_turned_j_at_separation", list.pair_count);
+  list.separation_expiry = ScalarView("pair_separation_expiry", list.pair_count);
 }
 
 // The candidate pairs, their owner rows and the reverse index; no contact state yet (see
@@ -276,6 +280,7 @@ inline void transfer_narrow_phase_state(PairList& fresh, const PairList& old,
   auto offset = fresh.separation_offset, old_offset = old.separation_offset;
   auto turned_i = fresh.turned_i_at_separation, old_turned_i = old.turned_i_at_separation;
   auto turned_j = fresh.turned_j_at_separation, old_turned_j = old.turned_j_at_separation;
+  auto expiry = fresh.separation_expiry, old_expiry = old.separation_expiry;
   Kokkos::parallel_for(
       "kdem::narrow_phase_state_transfer", RangePolicy(0, fresh.pair_count), KOKKOS_LAMBDA(int k) {
         bool flipped = false;
@@ -299,6 +304,7 @@ inline void transfer_narrow_phase_state(PairList& fresh, const PairList& old,
           offset(k, c) = sign * old_offset(found, c);
         turned_i(k) = flipped ? old_turned_j(found) : old_turned_i(found);
         turned_j(k) = flipped ? old_turned_i(found) : old_turned_j(found);
+        expiry(k) = old_expiry(found);
       });
 }
 

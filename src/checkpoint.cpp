@@ -16,7 +16,7 @@ namespace {
 // 3: pair lists carry the last step of each Newton warm start (pairs/midway_step).
 // Files of formats 1 and 2 are read too: format 1 particles get no source or tag (-1), its
 // lists one slot per pair or entry; formats 1 and 2 give every warm start a zero step.
-constexpr std::int64_t checkpoint_format = 3;
+constexpr std::int64_t checkpoint_format = 4;
 
 template <class View> void save_view(Hdf5Writer& out, const std::string& name, const View& view) {
   const int rows = view.data() ? int(view.extent(0)) : 0;
@@ -53,11 +53,14 @@ std::int64_t format_that_added(const std::string& name) {
     return 2;
   if (name == "pairs/midway_step")
     return 3;
+  if (name == "pairs/separation_expiry")
+    return 4;
   return 1;
 }
 
 // What an older file stands for instead of a dataset it lacks: per particle -1 (no label), per
-// pair nothing (one slot per pair), except the warm-start steps, zero for each warm start.
+// pair nothing (one slot per pair), except the warm-start steps, zero for each warm start, and
+// the certificates' expiries, zero (none) for each certificate.
 template <class View>
 void load_view_of_format(const Hdf5Reader& in, std::int64_t format, const std::string& name,
                          View& view, int particle_count) {
@@ -171,6 +174,8 @@ template <class State> bool read_counters(State& s, const CheckedInput& in) {
   // energy budget starts from the restart's state (set after the particles are read).
   s.lost_mass = in.has("lost_mass") ? in.finite("lost_mass") : 0;
   s.lost_count = in.has("lost_count") ? in.counter("lost_count") : 0;
+  // Before format 4 no certificate held an expiry (read as none), so the sum may start anew.
+  s.surface_travel = in.has("surface_travel") ? in.finite("surface_travel") : 0;
   const bool has_energy_budget = in.has("energy_budget");
   if (has_energy_budget) {
     s.energy_budget = in.finite("energy_budget");
@@ -212,6 +217,9 @@ template <class State> void read_tables(State& s, const CheckedInput& in, std::i
   s.pairs.slot_count = int(s.pairs.overlap.extent(0));
   if (format < format_that_added("pairs/midway_step"))
     s.pairs.midway_step = Vec3View("pair_midway_step", s.pairs.midway_point.extent(0));
+  if (format < format_that_added("pairs/separation_expiry"))
+    s.pairs.separation_expiry =
+        ScalarView("pair_separation_expiry", s.pairs.separation_margin.extent(0));
   for_each_wall_contact_field([&](const char* name, auto member) {
     load_view_of_format(in.file(), format, std::string("wall_contacts/") + name,
                         s.wall_contacts.*member, 0);
@@ -244,6 +252,7 @@ void Engine::write_checkpoint(const std::string& path) const {
   out.write_scalar("lost_count", std::int64_t(s.lost_count));
   out.write_scalar("energy_budget", s.energy_budget);
   out.write_scalar("initial_overlap_ratio", s.initial_overlap_ratio);
+  out.write_scalar("surface_travel", s.surface_travel);
   out.write_scalar("pair_count", std::int64_t(s.pairs.pair_count));
   out.write_scalar("wall_entry_count", std::int64_t(s.wall_contacts.entry_count));
   for (std::size_t k = 0; k < s.sources.size(); ++k) {

@@ -151,7 +151,22 @@ struct ListContext {
   bool rebuild_due;        // lists of an older particle order, used only to carry history over
   long built;              // particles at the build of the lists
   int wall_elements;
+  double surface_travel; // see Engine::State::surface_travel
 };
+
+// A certificate holds by the surface travel at most until half its gap is used up
+// (SeparationCertificates): a larger expiry would let a pair pass through its partner.
+void check_certificate_expiries(const RestoreCheck& check, const PairList& l, double travel) {
+  if (l.separation_expiry.extent(0) == 0 || l.separation_margin.extent(0) == 0)
+    return;
+  const auto expiry = host_copy(l.separation_expiry);
+  const auto margin = host_copy(l.separation_margin);
+  check.require(std::isfinite(travel) && travel >= 0, "surface_travel is not a finite length");
+  for (std::size_t k = 0; k < expiry.extent(0); ++k)
+    if (!(expiry(k) == 0 || expiry(k) <= travel + 0.5 * margin(k)))
+      check.require(false, "pairs/separation_expiry of row " + std::to_string(k) +
+                               " beyond surface_travel + half its pairs/separation_margin");
+}
 
 // What both lists keep per contact slot: the slots of their entries (one each, or the partition
 // contact_start gives), the spring, the rolling torque where the scene has rolling resistance and
@@ -212,6 +227,8 @@ void check_pairs(const RestoreCheck& check, const PairList& l, const ListContext
   check.optional_rows("pairs/separation_offset", l.separation_offset, count, narrow);
   check.optional_rows("pairs/turned_i_at_separation", l.turned_i_at_separation, count, narrow);
   check.optional_rows("pairs/turned_j_at_separation", l.turned_j_at_separation, count, narrow);
+  check.optional_rows("pairs/separation_expiry", l.separation_expiry, count, narrow);
+  check_certificate_expiries(check, l, c.surface_travel);
 }
 
 void check_wall_contacts(const RestoreCheck& check, const WallContactList& l,
@@ -284,9 +301,15 @@ void Engine::State::check_restored_lists(const std::string& path) const {
                   "list entries without lists");
     return;
   }
-  const ListContext context{
-      particles,     shape_families, families_present,    rolling, needs_narrow_phase_state(),
-      needs_rebuild, built,          walls.elements.count};
+  const ListContext context{particles,
+                            shape_families,
+                            families_present,
+                            rolling,
+                            needs_narrow_phase_state(),
+                            needs_rebuild,
+                            built,
+                            walls.elements.count,
+                            surface_travel};
   check_pairs(check, pairs, context);
   check_wall_contacts(check, wall_contacts, context);
 }

@@ -113,6 +113,10 @@ struct Engine::State {
   // that of particles inserted, less that of particles removed. Checked by check_health.
   double energy_budget = 0;
   double initial_overlap_ratio = 0; // largest overlap / radius after setup
+  // m: the farthest any surface point of a rigid body moved in a step, summed over the steps
+  // (from the start of the run). While it grows by less than half a separation certificate's
+  // gap, no surface moved far enough to close that gap (SeparationCertificates::unexpired).
+  double surface_travel = 0;
 
   void setup_materials();
   void setup_shapes();
@@ -124,6 +128,7 @@ struct Engine::State {
   void setup_outlets();
   void setup_leaving_bounds();
   void start_energy_budget();
+  void add_surface_travel(double farthest);
   // Throw std::runtime_error naming path, the dataset and the broken rule when the state read
   // from a checkpoint is not one the engine could have written (src/checkpoint_checks.cpp):
   // the particles first, then (with the families present updated) the lists.

@@ -28,6 +28,7 @@ template <class List> struct ContactContextOf {
   Tables tables;
   NarrowPhaseCounters counters;
   double dt = 0;
+  double surface_travel = 0; // m, see Engine::State::surface_travel
 
   template <class F> const typename F::Table& table() const {
     return std::get<family_index_v<F, List>>(tables);

@@ -39,28 +39,46 @@ KOKKOS_INLINE_FUNCTION double curvature_radius(double curvature_i, double curvat
 // angle it turned since, r_i its bounding radius; turning a sphere moves none of its surface), so
 // while |delta (x_j - x_i)| + theta_i r_i + theta_j r_j < G the pair cannot touch: it skips the box
 // test and the narrow phase and keeps its warm start.
+// Before looking at the bodies, a certificate is tried against the engine's surface travel S
+// (the farthest any surface point moved in a step, summed over the steps): each body's surface
+// moved by at most S - S_issued since, so while S - S_issued < G / 2 the pair cannot touch. That
+// test reads one number per pair; it holds for long in a bed near rest and expires soon where
+// anything moves fast, and then the test above decides (and, when it holds, starts the cheap
+// test again with the gap it leaves).
 struct SeparationCertificates {
   ParticleViews p;
   ScalarView margin;
   Vec3View offset;
   ScalarView turned_i, turned_j;
+  ScalarView expiry;
+  double travel = 0;   // S now
   bool enabled = true; // false: none issued, so every pair is tested every step
 
-  SeparationCertificates(const ParticleViews& p_, const PairList& list, bool enabled_)
+  SeparationCertificates(const ParticleViews& p_, const PairList& list, double surface_travel,
+                         bool enabled_)
       : p(p_), margin(list.separation_margin), offset(list.separation_offset),
         turned_i(list.turned_i_at_separation), turned_j(list.turned_j_at_separation),
-        enabled(enabled_) {}
+        expiry(list.separation_expiry), travel(surface_travel), enabled(enabled_) {}
+
+  // The pair's certificate holds by the surface travel alone (disabled: also those read from a
+  // checkpoint are ignored).
+  KOKKOS_INLINE_FUNCTION bool unexpired(int k) const { return enabled && travel < expiry(k); }
 
   // i_turns, j_turns: turning the body moves its surface (not a sphere's).
   KOKKOS_INLINE_FUNCTION bool still_apart(int k, int i, int j, bool i_turns, bool j_turns) const {
+    if (unexpired(k))
+      return true;
     const double gap = margin(k);
-    if (!enabled || !(gap > 0)) // disabled: also those read from a checkpoint are ignored
+    if (!enabled || !(gap > 0))
       return false;
     const double reach_i = i_turns ? p.radius(i) : 0.0, reach_j = j_turns ? p.radius(j) : 0.0;
     const Vec3 moved = load3(p.position, j) - load3(p.position, i) - load3(offset, k);
     const double reach = norm(moved) + (p.turned_angle(i) - turned_i(k)) * reach_i +
                          (p.turned_angle(j) - turned_j(k)) * reach_j;
-    return reach < gap;
+    if (!(reach < gap))
+      return false;
+    expiry(k) = expiry_after(gap - reach);
+    return true;
   }
   KOKKOS_INLINE_FUNCTION void issue(int k, int i, int j, double separation) const {
     margin(k) = enabled ? separation : 0.0;
@@ -68,9 +86,22 @@ struct SeparationCertificates {
       store3(offset, k, load3(p.position, j) - load3(p.position, i));
       turned_i(k) = p.turned_angle(i);
       turned_j(k) = p.turned_angle(j);
+      expiry(k) = expiry_after(margin(k));
+    } else {
+      expiry(k) = 0;
     }
   }
-  KOKKOS_INLINE_FUNCTION void revoke(int k) const { margin(k) = 0; }
+  KOKKOS_INLINE_FUNCTION void revoke(int k) const {
+    margin(k) = 0;
+    expiry(k) = 0;
+  }
+
+private:
+  // The surface travel at which a gap G left now may have closed, less its rounding: S + G / 2.
+  KOKKOS_INLINE_FUNCTION double expiry_after(double gap) const {
+    constexpr double epsilon = 2.220446049250313e-16;
+    return travel + 0.5 * gap * (1 - 1e-12) - 4 * epsilon * travel;
+  }
 };
 
 // Superquadric pairs that pass the exact bounding-sphere test, hold no valid separation
@@ -83,8 +114,8 @@ inline PairsToEvaluate superquadric_pairs_in_reach(const ParticleViews& p,
                                                    const SuperquadricFamily::Table& table,
                                                    const ShapeFamilies& shapes,
                                                    const PairList& list, PairTypeRows& type_rows,
-                                                   bool use_certificates, bool box_certificates,
-                                                   bool compact) {
+                                                   double surface_travel, bool use_certificates,
+                                                   bool box_certificates, bool compact) {
   const RowSet rows = type_rows.rows;
   const int candidates = rows.count;
   if (int(type_rows.passes.extent(0)) != candidates) {
@@ -99,36 +130,46 @@ inline PairsToEvaluate superquadric_pairs_in_reach(const ParticleViews& p,
   auto overlap = list.overlap;
   const PairSlots slots(list);
   const ContactSlots contact_slots = list.slots();
-  const SeparationCertificates certificates(p, list, use_certificates);
+  const SeparationCertificates certificates(p, list, surface_travel, use_certificates);
+  // A pair whose bounding spheres or boxes are apart by `gap`: no contact, no warm start, and
+  // the gap as its certificate.
+  const auto set_apart = KOKKOS_LAMBDA(int k, int i, int j, double gap) {
+    slots.clear(k);
+    multiplier(contact_slots.first(k)) = 0;
+    if (box_certificates && gap > 0)
+      certificates.issue(k, i, j, gap);
+    else
+      certificates.revoke(k);
+  };
   Kokkos::parallel_for(
       "kdem::superquadric_pair_prefilter", RangePolicy(0, candidates), KOKKOS_LAMBDA(int m) {
-        const int k = rows(m), i = pair_i(k), j = pair_j(k);
+        const int k = rows(m);
+        passes(m) = 0;
+        if (certificates.unexpired(k))
+          return;
+        const int i = pair_i(k), j = pair_j(k);
         const double reach = p.radius(i) + p.radius(j);
-        bool near = norm2(load3(p.position, i) - load3(p.position, j)) < reach * reach;
-        if (near && certificates.still_apart(k, i, j, true, true)) {
-          passes(m) = 0;
+        const double distance_squared = norm2(load3(p.position, i) - load3(p.position, j));
+        if (!(distance_squared < reach * reach)) {
+          set_apart(k, i, j, math::sqrt(distance_squared) - reach);
           return;
         }
+        if (certificates.still_apart(k, i, j, true, true))
+          return;
         // Pairs that touched at the last step almost surely still do: the box test is skipped
         // for them (the book's suggestion, Sect. 2.2.1); the narrow phase decides.
-        double box_gap = 0;
-        if (near && overlap(contact_slots.first(k)) == 0) {
+        if (overlap(contact_slots.first(k)) == 0) {
           int hint = axis(k);
-          box_gap = oriented_boxes_gap(SuperquadricFamily::oriented_box(table, shapes, p, i),
-                                       SuperquadricFamily::oriented_box(table, shapes, p, j), hint);
+          const double box_gap =
+              oriented_boxes_gap(SuperquadricFamily::oriented_box(table, shapes, p, i),
+                                 SuperquadricFamily::oriented_box(table, shapes, p, j), hint);
           axis(k) = hint;
-          near = !(box_gap > 0);
+          if (box_gap > 0) {
+            set_apart(k, i, j, box_gap);
+            return;
+          }
         }
-        passes(m) = near ? 1 : 0;
-        if (!near) {
-          slots.clear(k);
-          multiplier(contact_slots.first(k)) = 0;
-          // The boxes' gap bounds the bodies' gap: the pair skips its box test while it holds.
-          if (box_certificates && box_gap > 0)
-            certificates.issue(k, i, j, box_gap);
-          else
-            certificates.revoke(k);
-        }
+        passes(m) = 1;
       });
   if (!compact)
     return PairsToEvaluate{rows, passes, true};
@@ -136,11 +177,11 @@ inline PairsToEvaluate superquadric_pairs_in_reach(const ParticleViews& p,
   Kokkos::parallel_scan(
       "kdem::superquadric_pair_compact", RangePolicy(0, candidates),
       KOKKOS_LAMBDA(int m, int& running, bool final) {
-        if (passes(m) == 0)
-          return;
-        if (final)
+        // Branch only in the final pass: the pass flags follow no pattern a predictor learns.
+        const int pass = passes(m);
+        if (final && pass != 0)
           pairs_left(running) = rows(m);
-        ++running;
+        running += pass;
       },
       survivors);
   return PairsToEvaluate{RowSet{survivors, false, pairs_left}, passes, false};
@@ -166,8 +207,8 @@ struct SuperquadricPairState {
   explicit SuperquadricPairState(const ContactContext& c)
       : p(c.particles), table(c.table<SuperquadricFamily>()), shapes(c.shape_families),
         slots(c.pairs.slots()), point(c.pairs.midway_point), multiplier(c.pairs.midway_multiplier),
-        step(c.pairs.midway_step),
-        certificates(c.particles, c.pairs, table.settings.separation_certificates),
+        step(c.pairs.midway_step), certificates(c.particles, c.pairs, c.surface_travel,
+                                                table.settings.separation_certificates),
         controls(table.settings.newton), limit(table.settings.curvature_limit),
         extrapolate(table.settings.extrapolate_start), use_lanes(table.settings.lanes),
         team_size(table.settings.team_size) {}
@@ -223,9 +264,10 @@ template <> struct NarrowPhase<SuperquadricFamily, SuperquadricFamily> : Superqu
   explicit NarrowPhase(const ContactContext& c) : SuperquadricPairState(c) {}
 
   PairsToEvaluate select(const ContactContext& c, PairTypeRows& type_rows) const {
-    return superquadric_pairs_in_reach(
-        p, table, shapes, c.pairs, type_rows, table.settings.separation_certificates,
-        table.settings.box_certificates, table.settings.compact_candidates);
+    return superquadric_pairs_in_reach(p, table, shapes, c.pairs, type_rows, c.surface_travel,
+                                       table.settings.separation_certificates,
+                                       table.settings.box_certificates,
+                                       table.settings.compact_candidates);
   }
 
   // The Newton start is the last midway point moved on by its last step (relative to the
@@ -338,6 +380,8 @@ struct NarrowPhase<SphereFamily, SuperquadricFamily> : SuperquadricPairState, Ev
 
   KOKKOS_INLINE_FUNCTION PairOutcome operator()(const PairRef& r, PairContacts<1>& found,
                                                 NarrowPhaseTally& tally) const {
+    if (certificates.unexpired(r.k))
+      return PairOutcome::unchanged;
     const double reach = p.radius(r.i) + p.radius(r.j);
     if (norm2(load3(p.position, r.i) - load3(p.position, r.j)) >= reach * reach) {
       multiplier(slots.first(r.k)) = 0;

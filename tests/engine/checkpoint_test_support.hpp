@@ -35,4 +35,26 @@ std::vector<Value> read_checkpoint_dataset(const std::string& path, const std::s
   return values;
 }
 
+// The whole of one dataset, changed by `edit` and written back in place (same size and type);
+// false where the file or dataset cannot be opened, read or written.
+template <class Value, class Edit>
+bool edit_checkpoint_dataset(const std::string& path, const std::string& name, hid_t memory_type,
+                             Edit&& edit) {
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  if (file < 0)
+    return false;
+  const hid_t dataset = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+  bool written = false;
+  if (dataset >= 0) {
+    std::vector<Value> values = read_whole_dataset<Value>(dataset, memory_type);
+    if (!values.empty()) {
+      edit(values);
+      written = H5Dwrite(dataset, memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) >= 0;
+    }
+    H5Dclose(dataset);
+  }
+  H5Fclose(file);
+  return written;
+}
+
 } // namespace kdem::testing

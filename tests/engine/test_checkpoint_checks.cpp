@@ -24,16 +24,8 @@ namespace {
 template <class Value>
 void edit_dataset(const std::string& path, const std::string& name, hid_t memory_type,
                   const std::function<void(std::vector<Value>&)>& edit) {
-  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-  ASSERT_GE(file, 0) << path;
-  const hid_t dataset = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
-  ASSERT_GE(dataset, 0) << name;
-  std::vector<Value> values = testing::read_whole_dataset<Value>(dataset, memory_type);
-  ASSERT_FALSE(values.empty()) << name << " is empty or unreadable";
-  edit(values);
-  EXPECT_GE(H5Dwrite(dataset, memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), 0);
-  H5Dclose(dataset);
-  H5Fclose(file);
+  ASSERT_TRUE(testing::edit_checkpoint_dataset<Value>(path, name, memory_type, edit))
+      << name << " of " << path << " is missing, empty or unwritable";
 }
 
 // Replaces a dataset by a table of `columns` columns holding the same values where they fit.

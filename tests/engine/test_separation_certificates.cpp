@@ -216,29 +216,48 @@ TEST(SeparationCertificates, RotationAngleBoundIsAnUpperBound) {
 }
 
 // The rigid-body drift adds to turned_angle at least the angle each particle turned.
-TEST(SeparationCertificates, DriftAccumulatesTheTurnedAngle) {
+// Three rigid bodies at rest orientation (identity), unit mass, inertia (1, 2, 3), with the given
+// velocities, spins and bounding radii, at distinct positions.
+ParticleViews three_bodies(const double (&velocity)[3][3], const double (&spin)[3][3],
+                           const double (&radii)[3]) {
   ParticleViews p;
   p.allocate(3);
+  auto x = Kokkos::create_mirror_view(p.position);
+  auto v = Kokkos::create_mirror_view(p.velocity);
   auto w = Kokkos::create_mirror_view(p.angular_velocity);
+  auto q = Kokkos::create_mirror_view(p.orientation);
   auto inertia = Kokkos::create_mirror_view(p.inertia);
   auto mass = Kokkos::create_mirror_view(p.mass);
-  const double spin[3][3] = {{0, 0, 100}, {30, -40, 0}, {1e-3, 2e-3, 0}};
+  auto radius = Kokkos::create_mirror_view(p.radius);
   for (int i = 0; i < 3; ++i) {
-    for (int c = 0; c < 3; ++c)
+    for (int c = 0; c < 3; ++c) {
+      x(i, c) = 0.1 * (i + 1) + 0.01 * c;
+      v(i, c) = velocity[i][c];
       w(i, c) = spin[i][c];
+    }
+    q(i, 0) = 1, q(i, 1) = q(i, 2) = q(i, 3) = 0;
     inertia(i, 0) = 1, inertia(i, 1) = 2, inertia(i, 2) = 3;
     mass(i) = 1;
+    radius(i) = radii[i];
   }
+  Kokkos::deep_copy(p.position, x);
+  Kokkos::deep_copy(p.velocity, v);
   Kokkos::deep_copy(p.angular_velocity, w);
+  Kokkos::deep_copy(p.orientation, q);
   Kokkos::deep_copy(p.inertia, inertia);
   Kokkos::deep_copy(p.mass, mass);
-  auto q = Kokkos::create_mirror_view(p.orientation); // all start at the identity
-  for (int i = 0; i < 3; ++i)
-    q(i, 0) = 1, q(i, 1) = q(i, 2) = q(i, 3) = 0;
-  Kokkos::deep_copy(p.orientation, q);
+  Kokkos::deep_copy(p.radius, radius);
+  return p;
+}
+
+TEST(SeparationCertificates, DriftAccumulatesTheTurnedAngle) {
+  const double at_rest[3][3] = {};
+  const double spin[3][3] = {{0, 0, 100}, {30, -40, 0}, {1e-3, 2e-3, 0}};
+  ParticleViews p = three_bodies(at_rest, spin, {1, 1, 1});
   const double dt = 1e-4;
   for (int step = 0; step < 50; ++step)
     kick_and_drift_rigid(p, dt);
+  auto q = Kokkos::create_mirror_view(p.orientation);
   Kokkos::deep_copy(q, p.orientation);
   auto turned = Kokkos::create_mirror_view(p.turned_angle);
   Kokkos::deep_copy(turned, p.turned_angle);
@@ -252,6 +271,39 @@ TEST(SeparationCertificates, DriftAccumulatesTheTurnedAngle) {
         std::sqrt(spin[i][0] * spin[i][0] + spin[i][1] * spin[i][1] + spin[i][2] * spin[i][2]);
     EXPECT_LE(turned(i), 1.5 * speed * 50 * dt) << i;
   }
+}
+
+// The drift returns how far any surface point moved: |x_after - x_before| + turned angle x
+// bounding radius, the largest over the particles. Particle 1 translates slowly but spins a large
+// radius, so that the largest comes from turning (a drift that left turning out would return
+// particle 0's 1e-4 m); agreement to 1e-12 (the rounding of a few operations).
+TEST(SeparationCertificates, DriftReturnsHowFarAnySurfacePointMoved) {
+  const double velocity[3][3] = {{1, 0, 0}, {0, 0.5, 0}, {1e-3, 0, -2e-3}};
+  const double spin[3][3] = {{0, 0, 0}, {0, 0, 100}, {3, -4, 0}};
+  const double radii[3] = {1e-3, 0.02, 5e-3};
+  ParticleViews p = three_bodies(velocity, spin, radii);
+  auto x = Kokkos::create_mirror_view(p.position);
+  Kokkos::deep_copy(x, p.position);
+  double before[3][3]; // the mirror may be the View itself
+  for (int i = 0; i < 3; ++i)
+    for (int c = 0; c < 3; ++c)
+      before[i][c] = x(i, c);
+  const double farthest = kick_and_drift_rigid(p, 1e-4);
+  auto after = Kokkos::create_mirror_view(p.position);
+  auto turned = Kokkos::create_mirror_view(p.turned_angle);
+  Kokkos::deep_copy(after, p.position);
+  Kokkos::deep_copy(turned, p.turned_angle);
+  double largest = 0;
+  int which = -1;
+  for (int i = 0; i < 3; ++i) {
+    const Vec3 moved{after(i, 0) - before[i][0], after(i, 1) - before[i][1],
+                     after(i, 2) - before[i][2]};
+    const double travel = norm(moved) + turned(i) * radii[i];
+    if (travel > largest)
+      largest = travel, which = i;
+  }
+  EXPECT_EQ(which, 1);
+  EXPECT_NEAR(farthest, largest, 1e-12 * largest);
 }
 
 } // namespace
@@ -336,6 +388,71 @@ TEST(SeparationCertificates, RunsAgreeWithAndWithoutBoxCertificates) {
   EXPECT_GT(certified_with, certified_without + 10);
   RecordProperty("certified_pairs_with", std::to_string(certified_with));
   RecordProperty("certified_pairs_without", std::to_string(certified_without));
+}
+
+// The pour of small_superquadrics after 4000 steps: the engine's certificates keep the bound that
+// makes the one-number test safe (expiry at most S + G / 2, with S the surface travel) and many of
+// them hold by it (a certificate that never got an expiry would count none).
+TEST(SeparationCertificates, CertificatesHoldByTheSurfaceTravelWithinHalfTheirGap) {
+  Engine engine(cli_scene("small_superquadrics"));
+  engine.advance(4000);
+  const std::string path = (std::filesystem::path(::testing::TempDir()) /
+                            ("kdem_expiry_" + std::to_string(::getpid()) + ".h5"))
+                               .string();
+  engine.write_checkpoint(path);
+  const auto travel = read_checkpoint_dataset<double>(path, "surface_travel", H5T_NATIVE_DOUBLE);
+  const auto margin =
+      read_checkpoint_dataset<double>(path, "pairs/separation_margin", H5T_NATIVE_DOUBLE);
+  const auto expiry =
+      read_checkpoint_dataset<double>(path, "pairs/separation_expiry", H5T_NATIVE_DOUBLE);
+  std::remove(path.c_str());
+  ASSERT_EQ(travel.size(), 1u);
+  ASSERT_EQ(margin.size(), expiry.size());
+  EXPECT_GT(travel[0], 0);
+  int held = 0, certified = 0;
+  for (std::size_t k = 0; k < expiry.size(); ++k) {
+    certified += margin[k] > 0;
+    held += expiry[k] > travel[0];
+    if (expiry[k] != 0)
+      EXPECT_LE(expiry[k], travel[0] + 0.5 * margin[k]) << "row " << k;
+    if (margin[k] == 0)
+      EXPECT_EQ(expiry[k], 0) << "row " << k;
+  }
+  EXPECT_GT(held, 0);
+  RecordProperty("certified_pairs", std::to_string(certified));
+  RecordProperty("held_by_surface_travel", std::to_string(held));
+}
+
+// An expiry beyond S + G / 2 would let a pair pass through its partner unseen: a checkpoint that
+// holds one is refused, naming the dataset.
+TEST(SeparationCertificates, AnExpiryBeyondHalfTheGapIsRefused) {
+  const SceneConfig scene = cli_scene("small_superquadrics");
+  Engine engine(scene);
+  engine.advance(2000);
+  const std::string path = (std::filesystem::path(::testing::TempDir()) /
+                            ("kdem_bad_expiry_" + std::to_string(::getpid()) + ".h5"))
+                               .string();
+  engine.write_checkpoint(path);
+  const double travel =
+      read_checkpoint_dataset<double>(path, "surface_travel", H5T_NATIVE_DOUBLE).at(0);
+  const auto margin =
+      read_checkpoint_dataset<double>(path, "pairs/separation_margin", H5T_NATIVE_DOUBLE);
+  const auto certified = std::find_if(margin.begin(), margin.end(), [](double m) { return m > 0; });
+  ASSERT_NE(certified, margin.end()) << "the run must hold a certificate";
+  const std::size_t row = std::size_t(certified - margin.begin());
+  ASSERT_TRUE(edit_checkpoint_dataset<double>(
+      path, "pairs/separation_expiry", H5T_NATIVE_DOUBLE,
+      [&](std::vector<double>& expiry) { expiry[row] = travel + margin[row]; }));
+  Engine restarted(scene);
+  try {
+    restarted.read_checkpoint(path);
+    ADD_FAILURE() << "a checkpoint with an expiry beyond its gap was read";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("pairs/separation_expiry of row " + std::to_string(row)),
+              std::string::npos)
+        << e.what();
+  }
+  std::remove(path.c_str());
 }
 
 } // namespace
