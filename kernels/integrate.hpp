@@ -104,8 +104,11 @@ KOKKOS_INLINE_FUNCTION double rotation_angle_bound(Quat a, Quat b) {
 
 // Half kick of velocities, then the drift of positions and orientations; rigid bodies also add
 // the angle they turned to turned_angle and return how far any point of their surfaces moved at
-// most (|v dt| + turned angle x bounding radius, the bound of the separation certificates);
-// spheres, which no certificate tracks, return 0.
+// most (|v dt| + turned angle x bounding radius, the bound of the separation certificates;
+// unbounded_travel where that is not finite, a particle gone wrong, so that every certificate
+// expires); spheres, which no certificate tracks, return 0.
+constexpr double unbounded_travel = 1e300;
+
 template <class Rotation = IsotropicRotation>
 double kick_and_drift(const ParticleViews& p, double dt) {
   auto x = p.position, v = p.velocity, w = p.angular_velocity;
@@ -131,7 +134,8 @@ double kick_and_drift(const ParticleViews& p, double dt) {
     }
     store_quat(q, i, qi);
     store3(w, i, wi);
-    return travel;
+    const double bound = unbounded_travel; // its value, not the host variable, in device code
+    return travel < bound ? travel : bound;
   };
   if (!Rotation::bounds_turning) {
     Kokkos::parallel_for(

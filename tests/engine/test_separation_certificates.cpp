@@ -306,6 +306,16 @@ TEST(SeparationCertificates, DriftReturnsHowFarAnySurfacePointMoved) {
   EXPECT_NEAR(farthest, largest, 1e-12 * largest);
 }
 
+// A particle gone wrong (NaN velocity) has no bound on its travel: the drift returns
+// unbounded_travel, which expires every certificate, rather than a maximum that skips the NaN.
+TEST(SeparationCertificates, DriftOfANaNParticleExpiresEveryCertificate) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double velocity[3][3] = {{1, 0, 0}, {nan, 0, 0}, {0, 0, 1}};
+  const double spin[3][3] = {};
+  ParticleViews p = three_bodies(velocity, spin, {1e-3, 1e-3, 1e-3});
+  EXPECT_EQ(kick_and_drift_rigid(p, 1e-4), unbounded_travel);
+}
+
 } // namespace
 
 namespace testing {
