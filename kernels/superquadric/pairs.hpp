@@ -64,10 +64,9 @@ struct SeparationCertificates {
   // checkpoint are ignored).
   KOKKOS_INLINE_FUNCTION bool unexpired(int k) const { return enabled && travel < expiry(k); }
 
-  // i_turns, j_turns: turning the body moves its surface (not a sphere's).
+  // The test against the bodies, for a pair whose certificate has expired (both callers try
+  // unexpired first); i_turns, j_turns: turning the body moves its surface (not a sphere's).
   KOKKOS_INLINE_FUNCTION bool still_apart(int k, int i, int j, bool i_turns, bool j_turns) const {
-    if (unexpired(k))
-      return true;
     const double gap = margin(k);
     if (!enabled || !(gap > 0))
       return false;
