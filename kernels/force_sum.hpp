@@ -9,19 +9,19 @@
 
 namespace kdem {
 
-// A particle that is j of pair k gets -F and the torque (x_j - x_i) x F - T_i (see
-// PairList::torque_on_i).
+// A particle that is j of pair k gets -F and the pair's torque on j.
 inline void sum_forces(const ParticleViews& p, Vec3 gravity, const WallContactList& walls,
                        const PairList& pairs) {
-  auto force = p.force, torque = p.torque, position = p.position;
+  auto force = p.force, torque = p.torque;
   auto mass = p.mass;
   auto wall_start = walls.row_start;
   auto wall_overlap = walls.overlap;
   const ContactSlots wall_slots = walls.slots();
   auto wall_force = walls.force_on_i, wall_torque = walls.torque_on_i;
   auto row_start = pairs.row_start, reverse_start = pairs.reverse_start;
-  auto reverse_pair = pairs.reverse_pair, pair_i = pairs.pair_i;
+  auto reverse_pair = pairs.reverse_pair;
   auto force_on_i = pairs.force_on_i, torque_on_i = pairs.torque_on_i;
+  auto torque_on_j = pairs.torque_on_j;
   Kokkos::parallel_for(
       "kdem::sum_forces", RangePolicy(0, p.count), KOKKOS_LAMBDA(int i) {
         Vec3 f = mass(i) * gravity, t{};
@@ -31,16 +31,14 @@ inline void sum_forces(const ParticleViews& p, Vec3 gravity, const WallContactLi
           f += load3(wall_force, k);
           t += load3(wall_torque, k);
         }
-        const Vec3 xi = load3(position, i);
         for (int k = row_start(i); k < row_start(i + 1); ++k) {
           f += load3(force_on_i, k);
           t += load3(torque_on_i, k);
         }
         for (int m = reverse_start(i); m < reverse_start(i + 1); ++m) {
           const int k = reverse_pair(m);
-          const Vec3 force_on_partner = load3(force_on_i, k);
-          f -= force_on_partner;
-          t += cross(xi - load3(position, pair_i(k)), force_on_partner) - load3(torque_on_i, k);
+          f -= load3(force_on_i, k);
+          t += load3(torque_on_j, k);
         }
         store3(force, i, f);
         store3(torque, i, t);

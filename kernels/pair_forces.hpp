@@ -21,18 +21,23 @@ template <int K> struct PairContacts {
   PairContact contact[K];
 };
 
+// A contact's (or a pair's) torques on i and on j, each about its own centre.
+struct PairTorques {
+  Vec3 on_i, on_j;
+};
+
 // The per-contact and per-pair results a pair's contacts write, and how they are cleared when
 // the contacts end.
 struct PairSlots {
   ContactSlots slots;
-  Vec3View spring, rolling, force_on_i, torque_on_i;
+  Vec3View spring, rolling, force_on_i, torque_on_i, torque_on_j;
   ScalarView overlap;
   IndexView feature_i, feature_j;
 
   explicit PairSlots(const PairList& list)
       : slots(list.slots()), spring(list.tangential_spring), rolling(list.rolling_torque),
-        force_on_i(list.force_on_i), torque_on_i(list.torque_on_i), overlap(list.overlap),
-        feature_i(list.feature_i), feature_j(list.feature_j) {}
+        force_on_i(list.force_on_i), torque_on_i(list.torque_on_i), torque_on_j(list.torque_on_j),
+        overlap(list.overlap), feature_i(list.feature_i), feature_j(list.feature_j) {}
 
   KOKKOS_INLINE_FUNCTION void clear_slot(int s) const {
     store3(spring, s, Vec3{});
@@ -57,15 +62,16 @@ struct PairSlots {
       return;
     store3(force_on_i, k, Vec3{});
     store3(torque_on_i, k, Vec3{});
+    store3(torque_on_j, k, Vec3{});
   }
 
   // The contact law at one contact point (normal from j towards i) with the history `history`,
-  // which it advances; `torque` is the contact's torque on i about its centre.
+  // which it advances; `torque` holds the contact's torques on i and on j about their centres.
   template <class Law>
   KOKKOS_INLINE_FUNCTION ContactOutput law(const ParticleViews& p, int i, int j,
                                            const ContactGeometry& geometry, double effective_radius,
                                            const PairCoefficients& coefficients, double dt,
-                                           ContactHistory& history, Vec3& torque) const {
+                                           ContactHistory& history, PairTorques& torque) const {
     ContactInput in;
     in.geometry = geometry;
     const Vec3 xi = load3(p.position, i), xj = load3(p.position, j);
@@ -77,7 +83,8 @@ struct PairSlots {
     in.effective_radius = effective_radius;
     in.effective_mass = p.mass(i) * p.mass(j) / (p.mass(i) + p.mass(j));
     const ContactOutput out = Law::force(coefficients, in, dt, history);
-    torque = cross(point - xi, out.force_on_i) + out.rolling_torque_on_i;
+    torque.on_i = cross(point - xi, out.force_on_i) + out.rolling_torque_on_i;
+    torque.on_j = cross(out.force_on_i, point - xj) - out.rolling_torque_on_i;
     return out;
   }
 
@@ -104,12 +111,13 @@ struct PairSlots {
                                     const PairCoefficients& coefficients, double dt) const {
     const int s = slots.first(k);
     ContactHistory history = history_of<Law>(s);
-    Vec3 torque;
+    PairTorques torque;
     const ContactOutput out =
         law<Law>(p, i, j, geometry, effective_radius, coefficients, dt, history, torque);
     keep_history<Law>(s, history, geometry.overlap);
     store3(force_on_i, k, out.force_on_i);
-    store3(torque_on_i, k, torque);
+    store3(torque_on_i, k, torque.on_i);
+    store3(torque_on_j, k, torque.on_j);
   }
 
   // Several contact points of pair k, normals from j towards i; each takes the history of the
@@ -129,25 +137,28 @@ struct PairSlots {
           history = history_of<Law>(s);
         });
     const int count = found.count < kept ? found.count : kept;
-    Vec3 force, torque;
+    Vec3 force;
+    PairTorques torque;
     for (int c = 0; c < count; ++c) {
       const PairContact& contact = found.contact[c];
       const int on_i = flipped ? contact.feature_b : contact.feature_a;
       const int on_j = flipped ? contact.feature_a : contact.feature_b;
       ContactHistory history = previous.matching({on_i, on_j});
-      Vec3 contact_torque;
+      PairTorques contact_torque;
       const ContactOutput out = law<Law>(p, i, j, contact.geometry, contact.effective_radius,
                                          coefficients, dt, history, contact_torque);
       keep_history<Law>(first + c, history, contact.geometry.overlap);
       feature_i(first + c) = on_i;
       feature_j(first + c) = on_j;
       force = c == 0 ? out.force_on_i : force + out.force_on_i;
-      torque = c == 0 ? contact_torque : torque + contact_torque;
+      torque.on_i = c == 0 ? contact_torque.on_i : torque.on_i + contact_torque.on_i;
+      torque.on_j = c == 0 ? contact_torque.on_j : torque.on_j + contact_torque.on_j;
     }
     for (int c = count; c < capacity; ++c)
       clear_slot(first + c);
     store3(force_on_i, k, force);
-    store3(torque_on_i, k, torque);
+    store3(torque_on_i, k, torque.on_i);
+    store3(torque_on_j, k, torque.on_j);
   }
 };
 

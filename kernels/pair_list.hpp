@@ -25,12 +25,12 @@ struct PairList {
   Vec3View tangential_spring;     // history, see ContactHistory
   Vec3View rolling_torque;        // history; empty when no material pair has rolling resistance
   ScalarView overlap;             // m, 0 when not touching; then the slot's history is 0 too
-  // Per pair: the sum of the forces of its contacts on i this step, N, and their torque on i
-  // about its centre, N m. The torque on j is not stored: it is (x_j - x_i) x F - T_i, as the
-  // two torques of one force about two centres differ by the moment of the centres' offset.
-  // Both are 0 when no slot of the pair touches.
+  // Per pair: the sum of the forces of its contacts on i this step, N, and their torques on i
+  // and on j about their centres, N m (the force on j is -F). All are 0 when no slot of the pair
+  // touches.
   Vec3View force_on_i;
   Vec3View torque_on_i;
+  Vec3View torque_on_j;
   // Pair types with an iterative narrow phase only (empty in scenes of spheres): the Newton
   // warm start per slot (midway point relative to the midpoint of the two centres, m;
   // multiplier, 0 = none; how far that relative point moved between the last two evaluations,
@@ -208,6 +208,12 @@ template <class SlotsOf> void assign_contact_slots(PairList& list, SlotsOf slots
   list.contact_start = exclusive_scan_with_total(counts, list.slot_count);
 }
 
+// The torque on j is recomputed at every step before the force sum reads it (a pair not
+// touching keeps its zero), so a checkpoint does not keep it: a restored list gets it anew.
+inline void allocate_torque_on_j(PairList& list) {
+  list.torque_on_j = Vec3View("pair_torque_j", list.pair_count);
+}
+
 // The contact state of a pair list: per slot its history (features only with several slots per
 // pair), per pair its force and torque; the warm starts and certificates where a pair type
 // needs them.
@@ -227,6 +233,7 @@ inline void allocate_pair_contacts(PairList& list, bool rolling_state, bool narr
   list.overlap = ScalarView("pair_overlap", slots);
   list.force_on_i = Vec3View("pair_force", list.pair_count);
   list.torque_on_i = Vec3View("pair_torque_i", list.pair_count);
+  allocate_torque_on_j(list);
   if (narrow_phase_state)
     allocate_narrow_phase_state(list);
 }

@@ -215,6 +215,7 @@ template <class State> void read_tables(State& s, const CheckedInput& in, std::i
   });
   s.pairs.pair_count = in.count("pair_count");
   s.pairs.slot_count = int(s.pairs.overlap.extent(0));
+  allocate_torque_on_j(s.pairs);
   if (format < format_that_added("pairs/midway_step"))
     s.pairs.midway_step = Vec3View("pair_midway_step", s.pairs.midway_point.extent(0));
   if (format < format_that_added("pairs/separation_expiry"))

@@ -29,7 +29,7 @@ struct ThreeParticles {
   PairList pairs;
   Vec3 gravity{0, 0, -9.81};
   Vec3 wall_force{0.5, 0, 3}, wall_torque{0, -0.25, 0};
-  Vec3 pair_force{-2, 1, 0.5}, pair_torque{0.1, 0.2, -0.3};
+  Vec3 pair_force{-2, 1, 0.5}, pair_torque{0.1, 0.2, -0.3}, pair_torque_j{-0.4, 0.05, 0.7};
 
   ThreeParticles() {
     p.allocate(3);
@@ -54,6 +54,8 @@ struct ThreeParticles {
         rows_of<Vec3View>("pair_force", {pair_force.x, pair_force.y, pair_force.z, 0, 0, 0}, 3);
     pairs.torque_on_i =
         rows_of<Vec3View>("pair_torque", {pair_torque.x, pair_torque.y, pair_torque.z, 0, 0, 0}, 3);
+    pairs.torque_on_j = rows_of<Vec3View>(
+        "pair_torque_j", {pair_torque_j.x, pair_torque_j.y, pair_torque_j.z, 0, 0, 0}, 3);
   }
 };
 
@@ -72,8 +74,7 @@ TEST(ForceSum, AddsGravityWallsAndPairsAndKeepsNothingOfEarlierSteps) {
   expect_near(host_row(s.p.force, 0), 1.5 * s.gravity + s.wall_force + s.pair_force);
   expect_near(host_row(s.p.torque, 0), s.wall_torque + s.pair_torque);
   expect_near(host_row(s.p.force, 1), 2.0 * s.gravity - s.pair_force);
-  const Vec3 offset{1, 0, 0}; // x_1 - x_0
-  expect_near(host_row(s.p.torque, 1), cross(offset, s.pair_force) - s.pair_torque);
+  expect_near(host_row(s.p.torque, 1), s.pair_torque_j);
   // Particle 2 is j of a pair that does not touch: gravity alone, no torque.
   expect_near(host_row(s.p.force, 2), 0.5 * s.gravity);
   expect_near(host_row(s.p.torque, 2), Vec3{});
