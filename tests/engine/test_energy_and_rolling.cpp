@@ -1,5 +1,6 @@
 // Conservation and history tests: energy of an elastic frictionless gas, rolling resistance
-// stopping distance, and contact history across candidate-list rebuilds.
+// stopping distance, angular momentum of a frictional collision, and contact history across
+// candidate-list rebuilds.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -131,48 +132,6 @@ double resting_overlap(double load, double effective_youngs, double radius) {
 //   m a = F (friction),  I alpha = -R F - mu_r R m g,  a = R alpha (no slip)
 //   => a = -mu_r g / (1 + I / (m R^2)) = -mu_r g / 1.4,  stopping distance 0.7 v0^2 / (mu_r g).
 // (The friction needed, mu_r m g / 1.4, is far below mu m g, so the sphere does not slip.)
-// Two spheres of unequal size and spin meet off centre with friction and rolling resistance:
-// every step kicks the total angular momentum about the origin by h (sum of x x F + T), which a
-// pair's forces and its torques on i and on j make zero, and a drift changes sum m x x v by
-// m v x v dt = 0. So the total stays what it was to rounding: a few ulps a step of its largest
-// terms, m |x| |v| ~ 6e-8 kg m^2/s, a random walk of ~1e-14 of it over 10,000 steps (5e-14
-// seen); the bound 1e-12 leaves a factor of 20, while a torque on j off by a lever arm of the
-// overlap (~1e-6 m) would move it by ~1e-4. The spins change by tens of percent.
-TEST(AngularMomentum, FrictionalRollingSpheresKeepItToRounding) {
-  SceneConfig scene = empty_scene(2e-7, {material("glass", 2500, 1e8, 0.3, 0.6, 0.5, 0.3)});
-  Engine engine(scene);
-  ParticleInit a = sphere({-1.2e-3, 0.5e-3, 0.1e-3}, 1e-3, {1.0, 0, 0});
-  a.angular_velocity = {0, 300, -200};
-  ParticleInit b = sphere({1.5e-3, -0.4e-3, 0}, 1.4e-3, {-0.5, 0.1, 0});
-  b.angular_velocity = {150, 0, 400};
-  engine.add_particles({a, b});
-  auto total = [&] { // the snapshot's rows follow the engine's order, which its sorts change
-    const ParticleSnapshot s = engine.snapshot();
-    Vec3 l{};
-    for (int i = 0; i < 2; ++i) {
-      const Vec3 x{s.position[3 * i], s.position[3 * i + 1], s.position[3 * i + 2]};
-      const Vec3 v{s.velocity[3 * i], s.velocity[3 * i + 1], s.velocity[3 * i + 2]};
-      const Vec3 w{s.angular_velocity[3 * i], s.angular_velocity[3 * i + 1],
-                   s.angular_velocity[3 * i + 2]};
-      const double mass = sphere_mass(scene.materials[0], s.radius[i]);
-      l = l + mass * cross(x, v) + (0.4 * mass * s.radius[i] * s.radius[i]) * w;
-    }
-    return l;
-  };
-  const Vec3 before = total();
-  for (int k = 0; k < 10000; ++k)
-    engine.step();
-  const Vec3 after = total();
-  const double scale = sphere_mass(scene.materials[0], 1.4e-3) * 2e-3 * 1.0; // m |x| |v|
-  EXPECT_LT(norm(after - before), 1e-12 * scale);
-  RecordProperty("angular_momentum_change_over_scale",
-                 std::to_string(norm(after - before) / scale));
-  // The contact did act: the smaller sphere's spin about y changed.
-  const ParticleSnapshot s = engine.snapshot();
-  const int small = s.radius[0] < s.radius[1] ? 0 : 1;
-  EXPECT_GT(std::abs(s.angular_velocity[3 * small + 1] - 300), 0.1 * 300);
-}
-
 TEST(RollingResistance, SphereStopsAtTheModelsDistance) {
   const double radius = 5e-3, g = 9.81, mu = 0.5, mu_r = 0.1, v0 = 0.1;
   const MaterialConfig m = material("ball", 2500, 1e9, 0.3, 0.5, mu, mu_r);
@@ -354,6 +313,50 @@ TEST(ContactHistory, StaticFrictionOnAnInclineSurvivesRebuildsEveryStep) {
   EXPECT_LT(largest_shift(half), 0.5 * static_shift);
   EXPECT_GE(engine.diagnostics().list_builds, 20000);
   EXPECT_EQ(engine.diagnostics().wall_contacts, 4);
+}
+
+// --- (e) angular momentum of a frictional, rolling collision ------------------------------
+
+// Two spheres of unequal size and spin meet off centre with friction and rolling resistance:
+// every step kicks the total angular momentum about the origin by h (sum of x x F + T), which a
+// pair's forces and its torques on i and on j make zero, and a drift changes sum m x x v by
+// m v x v dt = 0. So the total stays what it was to rounding: a few ulps a step of its largest
+// terms, m |x| |v| ~ 6e-8 kg m^2/s, a random walk of ~1e-14 of it over 10,000 steps (5e-14
+// seen); the bound 1e-12 leaves a factor of 20, while a torque on j off by a lever arm of the
+// overlap (~1e-6 m) would move it by ~1e-4. The spins change by tens of percent.
+TEST(AngularMomentum, FrictionalRollingSpheresKeepItToRounding) {
+  SceneConfig scene = empty_scene(2e-7, {material("glass", 2500, 1e8, 0.3, 0.6, 0.5, 0.3)});
+  Engine engine(scene);
+  ParticleInit a = sphere({-1.2e-3, 0.5e-3, 0.1e-3}, 1e-3, {1.0, 0, 0});
+  a.angular_velocity = {0, 300, -200};
+  ParticleInit b = sphere({1.5e-3, -0.4e-3, 0}, 1.4e-3, {-0.5, 0.1, 0});
+  b.angular_velocity = {150, 0, 400};
+  engine.add_particles({a, b});
+  auto total = [&] { // the snapshot's rows follow the engine's order, which its sorts change
+    const ParticleSnapshot s = engine.snapshot();
+    Vec3 l{};
+    for (int i = 0; i < 2; ++i) {
+      const Vec3 x{s.position[3 * i], s.position[3 * i + 1], s.position[3 * i + 2]};
+      const Vec3 v{s.velocity[3 * i], s.velocity[3 * i + 1], s.velocity[3 * i + 2]};
+      const Vec3 w{s.angular_velocity[3 * i], s.angular_velocity[3 * i + 1],
+                   s.angular_velocity[3 * i + 2]};
+      const double mass = sphere_mass(scene.materials[0], s.radius[i]);
+      l = l + mass * cross(x, v) + (0.4 * mass * s.radius[i] * s.radius[i]) * w;
+    }
+    return l;
+  };
+  const Vec3 before = total();
+  for (int k = 0; k < 10000; ++k)
+    engine.step();
+  const Vec3 after = total();
+  const double scale = sphere_mass(scene.materials[0], 1.4e-3) * 2e-3 * 1.0; // m |x| |v|
+  EXPECT_LT(norm(after - before), 1e-12 * scale);
+  RecordProperty("angular_momentum_change_over_scale",
+                 std::to_string(norm(after - before) / scale));
+  // The contact did act: the smaller sphere's spin about y changed.
+  const ParticleSnapshot s = engine.snapshot();
+  const int small = s.radius[0] < s.radius[1] ? 0 : 1;
+  EXPECT_GT(std::abs(s.angular_velocity[3 * small + 1] - 300), 0.1 * 300);
 }
 
 } // namespace
