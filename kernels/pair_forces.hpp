@@ -25,6 +25,9 @@ template <int K> struct PairContacts {
 struct PairTorques {
   Vec3 on_i, on_j;
 };
+KOKKOS_INLINE_FUNCTION PairTorques operator+(const PairTorques& a, const PairTorques& b) {
+  return {a.on_i + b.on_i, a.on_j + b.on_j};
+}
 
 // The per-contact and per-pair results a pair's contacts write, and how they are cleared when
 // the contacts end.
@@ -151,8 +154,7 @@ struct PairSlots {
       feature_i(first + c) = on_i;
       feature_j(first + c) = on_j;
       force = c == 0 ? out.force_on_i : force + out.force_on_i;
-      torque.on_i = c == 0 ? contact_torque.on_i : torque.on_i + contact_torque.on_i;
-      torque.on_j = c == 0 ? contact_torque.on_j : torque.on_j + contact_torque.on_j;
+      torque = c == 0 ? contact_torque : torque + contact_torque;
     }
     for (int c = count; c < capacity; ++c)
       clear_slot(first + c);

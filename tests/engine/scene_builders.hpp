@@ -8,6 +8,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "shapes/vec3.hpp"
 #include "src/engine.hpp"
@@ -70,6 +71,11 @@ inline WallConfig drum_about_y(const std::string& material, double rpm) {
   drum.motion.axis_direction = {0, 1, 0};
   drum.motion.rpm = rpm;
   return drum;
+}
+
+// Row i of a snapshot's flattened three-column field.
+inline Vec3 row3(const std::vector<double>& values, int i) {
+  return {values[3 * i], values[3 * i + 1], values[3 * i + 2]};
 }
 
 inline ParticleInit sphere(Vec3d position, double radius, Vec3d velocity = {0, 0, 0},

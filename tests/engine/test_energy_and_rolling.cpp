@@ -336,12 +336,9 @@ TEST(AngularMomentum, FrictionalRollingSpheresKeepItToRounding) {
     const ParticleSnapshot s = engine.snapshot();
     Vec3 l{};
     for (int i = 0; i < 2; ++i) {
-      const Vec3 x{s.position[3 * i], s.position[3 * i + 1], s.position[3 * i + 2]};
-      const Vec3 v{s.velocity[3 * i], s.velocity[3 * i + 1], s.velocity[3 * i + 2]};
-      const Vec3 w{s.angular_velocity[3 * i], s.angular_velocity[3 * i + 1],
-                   s.angular_velocity[3 * i + 2]};
       const double mass = sphere_mass(scene.materials[0], s.radius[i]);
-      l = l + mass * cross(x, v) + (0.4 * mass * s.radius[i] * s.radius[i]) * w;
+      l = l + mass * cross(row3(s.position, i), row3(s.velocity, i)) +
+          (0.4 * mass * s.radius[i] * s.radius[i]) * row3(s.angular_velocity, i);
     }
     return l;
   };

@@ -28,10 +28,6 @@ ParticleInit shaped(int shape, Vec3d position, std::array<double, 4> orientation
   return p;
 }
 
-Vec3 row3(const std::vector<double>& values, int i) {
-  return {values[3 * i], values[3 * i + 1], values[3 * i + 2]};
-}
-
 Quat row4(const std::vector<double>& values, int i) {
   return {values[4 * i], values[4 * i + 1], values[4 * i + 2], values[4 * i + 3]};
 }
