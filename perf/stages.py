@@ -15,15 +15,17 @@ FUNCTION_STAGES = [
               r"kdem::remember_build_positions|kdem::rows_by_id|kdem::rows_by_key|"
               r"kdem::present_families|kdem::Engine::State::classify_families"),
     ("walls", r"kdem::compute_\w*wall_contacts|kdem::update_wall_poses"),
-    ("superquadric box tests", r"kdem::superquadric_pairs_in_reach"),
+    ("superquadric box tests", r"kdem::(implicit|superquadric)_pairs_in_reach"),
     ("superquadric narrow phase", r"kdem::superquadric_pair_contact|"
-                                  r"kdem::sphere_superquadric_contact|kdem::narrow_phase::"),
+                                  r"kdem::sphere_superquadric_contact|kdem::narrow_phase::|"
+                                  r"kdem::piecewise_pair_contact|"
+                                  r"kdem::sphere_poly_superquadric_contact"),
     # Hertz-Mindlin with history, shared by every pair kernel
     ("contact law", r"kdem::PairSlots::(apply|clear)|kdem::hertz_mindlin"),
     # the rest of the superquadric pair kernels: warm starts, certificates, counters
-    ("superquadric contacts", r"kdem::compute_pair_type<kdem::\w+, kdem::SuperquadricFamily|"
-                              r"kdem::SuperquadricPairState|"
-                              r"kdem::NarrowPhase<kdem::\w+, kdem::SuperquadricFamily>"),
+    ("superquadric contacts", r"kdem::compute_pair_type<kdem::\w+, kdem::(Poly)?SuperquadricFamily|"
+                              r"kdem::(Implicit|Superquadric|PolySuperquadric)PairState|"
+                              r"kdem::NarrowPhase<kdem::\w+, kdem::(Poly)?SuperquadricFamily>"),
     # the sphere pair kernel is inlined into the function that calls the pair kernels
     ("sphere contacts", r"kdem::compute_pair_type<kdem::SphereFamily, kdem::SphereFamily|"
                         r"kdem::NarrowPhase<kdem::SphereFamily, kdem::SphereFamily>|"
@@ -43,8 +45,9 @@ KERNEL_STAGES = [
               r"flag_rows|kept_indices|exclusive_scan|narrow_phase_state_transfer|"
               r"rows_by_key|rows_by_key_fill|present_families)$"),
     ("walls", r"^kdem::(\w+_wall_contacts|wall_poses)$"),
-    ("superquadric box tests", r"^kdem::superquadric_pair_(prefilter|compact)$"),
-    ("superquadric contacts", r"^kdem::(superquadric_pair_forces|sphere_superquadric_forces)$"),
+    ("superquadric box tests", r"^kdem::(poly_)?superquadric_pair_(prefilter|compact)$"),
+    ("superquadric contacts", r"^kdem::(superquadric_pair_forces|sphere_superquadric_forces|"
+                              r"\w*poly_superquadric_forces)$"),
     ("sphere contacts", r"^kdem::sphere_pair_forces$"),
     ("gather", r"^kdem::sum_forces$"),
     ("outlets", r"^kdem::outlets$"),

@@ -34,6 +34,11 @@ template <class Point> BodySurface latitude_longitude_surface(int resolution, co
   return surface;
 }
 
+// sgn(t) |t|^e: the signed power of the parametric surfaces of superquadrics (Barr 1981).
+inline double signed_power(double t, double exponent) {
+  return std::copysign(std::pow(std::abs(t), exponent), t);
+}
+
 inline BodySurface unit_sphere_surface(int resolution) {
   return latitude_longitude_surface(resolution, [](double eta, double omega) {
     return std::array<double, 3>{std::cos(eta) * std::cos(omega), std::cos(eta) * std::sin(omega),

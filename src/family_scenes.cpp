@@ -2,12 +2,13 @@
 // registry (kernels/families/registry.hpp) because the scene loader is built once, without
 // Kokkos, for every backend; Engine setup refuses a device family missing here.
 #include "family_scene.hpp"
+#include "poly_superquadric_scene.hpp"
 #include "superquadric_scene.hpp"
 
 namespace kdem {
 
 const std::vector<FamilyScene>& family_scenes() {
-  static const std::vector<FamilyScene> scenes{superquadric_scene()};
+  static const std::vector<FamilyScene> scenes{superquadric_scene(), poly_superquadric_scene()};
   return scenes;
 }
 

@@ -41,9 +41,18 @@ std::shared_ptr<const FamilyShapeParameters> read_superquadric(const Value& valu
 }
 
 std::shared_ptr<const FamilySettings> read_superquadric_contact(const Value& value) {
-  const Mapping map(value, {"tolerance", "max_iterations", "curvature_limit",
-                            "separation_certificates", "box_certificates", "compact_candidates",
-                            "extrapolate_start", "ellipsoid_scalar_root", "lanes", "team_size"});
+  return read_newton_settings(value,
+                              {"tolerance", "max_iterations", "curvature_limit",
+                               "separation_certificates", "box_certificates", "compact_candidates",
+                               "extrapolate_start", "ellipsoid_scalar_root", "lanes", "team_size"});
+}
+
+} // namespace
+
+std::shared_ptr<SuperquadricContactConfig> read_newton_settings(const scene_yaml::Value& value,
+                                                                const scene_yaml::KeyList& keys) {
+  using namespace scene_yaml;
+  const Mapping map(value, keys);
   auto settings = std::make_shared<SuperquadricContactConfig>();
   SuperquadricContactConfig& config = *settings;
   if (auto value_found = map.find("tolerance"))
@@ -70,8 +79,6 @@ std::shared_ptr<const FamilySettings> read_superquadric_contact(const Value& val
     config.team_size = int(whole_number(*value_found, 0));
   return settings;
 }
-
-} // namespace
 
 double SuperquadricShapeParameters::smallest_size() const {
   return *std::min_element(half_axes.begin(), half_axes.end());
@@ -100,11 +107,6 @@ SuperquadricContactConfig& modify_superquadric_contact(SceneConfig& scene) {
   auto copy = std::make_shared<SuperquadricContactConfig>(superquadric_contact(scene));
   scene.family_settings[family_name] = copy;
   return *copy;
-}
-
-// sgn(t) |t|^e: the signed power of the parametric surface.
-double signed_power(double t, double exponent) {
-  return std::copysign(std::pow(std::abs(t), exponent), t);
 }
 
 // x = a c1^e1 c2^e2, y = b c1^e1 s2^e2, z = c s1^e1 with e1 = 2/n1, e2 = 2/n2.

@@ -32,6 +32,12 @@ struct SuperquadricContactConfig : FamilySettings {
 // Its entry in the registry of scene readers.
 FamilyScene superquadric_scene();
 
+// Reads the narrow-phase settings of `keys` (those of SuperquadricContactConfig a family uses),
+// refusing any other key: the superquadrics' reader, shared by the families whose contacts are
+// solved by the superquadric Newton (poly-superquadrics).
+std::shared_ptr<SuperquadricContactConfig> read_newton_settings(const scene_yaml::Value& value,
+                                                                const scene_yaml::KeyList& keys);
+
 // The parameters of a superquadric shape entry; throws std::logic_error for another family's.
 const SuperquadricShapeParameters& superquadric_parameters(const ShapeConfig& shape);
 // The scene's superquadric settings (the defaults where it sets none), and a modifiable copy

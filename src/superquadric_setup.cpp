@@ -8,6 +8,7 @@
 #include "body_surface.hpp"
 #include "engine_state.hpp"
 #include "superquadric_scene.hpp"
+#include "superquadric_settings.hpp"
 
 namespace kdem {
 namespace {
@@ -30,7 +31,9 @@ ShapeTemplate host_template(const SuperquadricShape& shape) {
   return t;
 }
 
-SuperquadricContactSettings device_settings(const FamilySettings* scene_settings) {
+} // namespace
+
+SuperquadricContactSettings superquadric_device_settings(const FamilySettings* scene_settings) {
   const SuperquadricContactConfig config =
       scene_settings != nullptr ? dynamic_cast<const SuperquadricContactConfig&>(*scene_settings)
                                 : SuperquadricContactConfig{};
@@ -50,8 +53,6 @@ SuperquadricContactSettings device_settings(const FamilySettings* scene_settings
   return settings;
 }
 
-} // namespace
-
 std::vector<ShapeTemplate> SuperquadricFamily::setup_templates(const FamilyShapes& family,
                                                                Table& table) {
   const int count = int(family.shapes.size());
@@ -68,7 +69,7 @@ std::vector<ShapeTemplate> SuperquadricFamily::setup_templates(const FamilyShape
   }
   Kokkos::deep_copy(table.shapes, shape_mirror);
   Kokkos::deep_copy(table.equivalent_radius, radius_mirror);
-  table.settings = device_settings(family.settings);
+  table.settings = superquadric_device_settings(family.settings);
   return templates;
 }
 

@@ -4,13 +4,14 @@
 // trait, template table, narrow phases against the families before it, and wall contact.
 // A new family is added here, at the end of the list (docs/architecture.md, "Adding a shape
 // family").
+#include "../poly_superquadric/family.hpp"
 #include "../superquadric/family.hpp"
 #include "contact_context.hpp"
 #include "sphere.hpp"
 
 namespace kdem {
 
-using Families = FamilyList<SphereFamily, SuperquadricFamily>;
+using Families = FamilyList<SphereFamily, SuperquadricFamily, PolySuperquadricFamily>;
 using ContactContext = ContactContextOf<Families>;
 using EngineFamilyRows = FamilyRows<Families>;
 

@@ -24,7 +24,9 @@ struct SuperquadricContactSettings {
   int team_size = 0; // of the narrow-phase kernel, see reduce_over_items
 };
 
-struct SuperquadricWallContactOf;
+template <class F> struct ImplicitWallContactOf;
+struct SuperquadricFamily;
+using SuperquadricWallContactOf = ImplicitWallContactOf<SuperquadricFamily>;
 
 struct SuperquadricFamily {
   static constexpr const char* name = "superquadric";

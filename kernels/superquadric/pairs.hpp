@@ -103,23 +103,25 @@ private:
   }
 };
 
-// Superquadric pairs that pass the exact bounding-sphere test, hold no valid separation
-// certificate and pass the oriented-box test, as rows of the pair list; the pairs that fail
+// Pairs of one family with an implicit surface (superquadric, poly-superquadric) that pass the
+// exact bounding-sphere test, hold no valid separation certificate and pass the oriented-box
+// test (F::oriented_box), as rows of the pair list; the pairs that fail
 // have their contact cleared and their warm start dropped. With `compact` the survivors are
 // gathered by a scan, so that no lane of the narrow-phase kernel idles on a rejected pair;
 // without, that kernel runs over every candidate and skips the rejected ones. The pass flags
 // and survivors are sized once per list build.
-inline PairsToEvaluate superquadric_pairs_in_reach(const ParticleViews& p,
-                                                   const SuperquadricFamily::Table& table,
-                                                   const ShapeFamilies& shapes,
-                                                   const PairList& list, PairTypeRows& type_rows,
-                                                   double surface_travel, bool use_certificates,
-                                                   bool box_certificates, bool compact) {
+template <class F>
+PairsToEvaluate implicit_pairs_in_reach(const ParticleViews& p, const typename F::Table& table,
+                                        const ShapeFamilies& shapes, const PairList& list,
+                                        PairTypeRows& type_rows, double surface_travel,
+                                        bool use_certificates, bool box_certificates,
+                                        bool compact) {
   const RowSet rows = type_rows.rows;
   const int candidates = rows.count;
   if (int(type_rows.passes.extent(0)) != candidates) {
-    type_rows.passes = uninitialized<IndexView>("superquadric_pair_passes", candidates);
-    type_rows.survivors = uninitialized<IndexView>("superquadric_pairs_left", candidates);
+    type_rows.passes = uninitialized<IndexView>(std::string(F::name) + "_pair_passes", candidates);
+    type_rows.survivors =
+        uninitialized<IndexView>(std::string(F::name) + "_pairs_left", candidates);
   }
   auto passes = type_rows.passes;
   auto pairs_left = type_rows.survivors;
@@ -141,7 +143,8 @@ inline PairsToEvaluate superquadric_pairs_in_reach(const ParticleViews& p,
       certificates.revoke(k);
   };
   Kokkos::parallel_for(
-      "kdem::superquadric_pair_prefilter", RangePolicy(0, candidates), KOKKOS_LAMBDA(int m) {
+      std::string("kdem::") + F::name + "_pair_prefilter", RangePolicy(0, candidates),
+      KOKKOS_LAMBDA(int m) {
         const int k = rows(m);
         passes(m) = 0;
         if (certificates.unexpired(k))
@@ -159,9 +162,8 @@ inline PairsToEvaluate superquadric_pairs_in_reach(const ParticleViews& p,
         // for them (the book's suggestion, Sect. 2.2.1); the narrow phase decides.
         if (overlap(contact_slots.first(k)) == 0) {
           int hint = axis(k);
-          const double box_gap =
-              oriented_boxes_gap(SuperquadricFamily::oriented_box(table, shapes, p, i),
-                                 SuperquadricFamily::oriented_box(table, shapes, p, j), hint);
+          const double box_gap = oriented_boxes_gap(F::oriented_box(table, shapes, p, i),
+                                                    F::oriented_box(table, shapes, p, j), hint);
           axis(k) = hint;
           if (box_gap > 0) {
             set_apart(k, i, j, box_gap);
@@ -174,7 +176,7 @@ inline PairsToEvaluate superquadric_pairs_in_reach(const ParticleViews& p,
     return PairsToEvaluate{rows, passes, true};
   int survivors = 0;
   Kokkos::parallel_scan(
-      "kdem::superquadric_pair_compact", RangePolicy(0, candidates),
+      std::string("kdem::") + F::name + "_pair_compact", RangePolicy(0, candidates),
       KOKKOS_LAMBDA(int m, int& running, bool final) {
         // Branch only in the final pass: the pass flags follow no pattern a predictor learns.
         const int pass = passes(m);
@@ -186,11 +188,10 @@ inline PairsToEvaluate superquadric_pairs_in_reach(const ParticleViews& p,
   return PairsToEvaluate{RowSet{survivors, false, pairs_left}, passes, false};
 }
 
-// What the superquadric narrow phases share: the warm starts they read and write, the tally,
-// the certificates, and how a narrow-phase result becomes the pair's contact.
-struct SuperquadricPairState {
+// What the narrow phases of implicit surfaces share: the warm starts they read and write, the
+// tally, the certificates, and how a narrow-phase result becomes the pair's contact.
+struct ImplicitPairState {
   ParticleViews p;
-  SuperquadricFamily::Table table;
   ShapeFamilies shapes;
   ContactSlots slots;
   Vec3View point;
@@ -203,14 +204,14 @@ struct SuperquadricPairState {
   bool use_lanes = true;
   int team_size = 0;
 
-  explicit SuperquadricPairState(const ContactContext& c)
-      : p(c.particles), table(c.table<SuperquadricFamily>()), shapes(c.shape_families),
-        slots(c.pairs.slots()), point(c.pairs.midway_point), multiplier(c.pairs.midway_multiplier),
-        step(c.pairs.midway_step), certificates(c.particles, c.pairs, c.surface_travel,
-                                                table.settings.separation_certificates),
-        controls(table.settings.newton), limit(table.settings.curvature_limit),
-        extrapolate(table.settings.extrapolate_start), use_lanes(table.settings.lanes),
-        team_size(table.settings.team_size) {}
+  ImplicitPairState(const ContactContext& c, const SuperquadricContactSettings& settings)
+      : p(c.particles), shapes(c.shape_families), slots(c.pairs.slots()),
+        point(c.pairs.midway_point), multiplier(c.pairs.midway_multiplier),
+        step(c.pairs.midway_step),
+        certificates(c.particles, c.pairs, c.surface_travel, settings.separation_certificates),
+        controls(settings.newton), limit(settings.curvature_limit),
+        extrapolate(settings.extrapolate_start), use_lanes(settings.lanes),
+        team_size(settings.team_size) {}
 
   // The stored point is relative to the midpoint of the two centres, so that it moves with the
   // pair's mean translation (and is the same for both orders of i and j).
@@ -220,18 +221,6 @@ struct SuperquadricPairState {
 
   KOKKOS_INLINE_FUNCTION MidwayState warm_start(int slot, Vec3 midpoint) const {
     return MidwayState{load3(point, slot) + midpoint, multiplier(slot)};
-  }
-
-  template <class FamilyI, class FamilyJ>
-  KOKKOS_INLINE_FUNCTION double pair_equivalent_radius(int i, int j) const {
-    const double ri = equivalent_radius_of<FamilyI>(i), rj = equivalent_radius_of<FamilyJ>(j);
-    return ri * rj / (ri + rj);
-  }
-  template <class F> KOKKOS_INLINE_FUNCTION double equivalent_radius_of(int i) const {
-    if constexpr (std::is_same_v<F, SuperquadricFamily>)
-      return F::equivalent_radius(table, shapes, p, i);
-    else
-      return F::equivalent_radius(typename F::Table{}, shapes, p, i);
   }
 
   // Counts the evaluation, keeps its warm start (relative to `midpoint`, the centres' midpoint)
@@ -255,6 +244,30 @@ struct SuperquadricPairState {
   }
 };
 
+// The harmonic Hertz radius of two equivalent radii.
+KOKKOS_INLINE_FUNCTION double series_radius(double ri, double rj) {
+  return ri * rj / (ri + rj);
+}
+
+struct SuperquadricPairState : ImplicitPairState {
+  SuperquadricFamily::Table table;
+
+  explicit SuperquadricPairState(const ContactContext& c)
+      : ImplicitPairState(c, c.table<SuperquadricFamily>().settings),
+        table(c.table<SuperquadricFamily>()) {}
+
+  template <class FamilyI, class FamilyJ>
+  KOKKOS_INLINE_FUNCTION double pair_equivalent_radius(int i, int j) const {
+    return series_radius(equivalent_radius_of<FamilyI>(i), equivalent_radius_of<FamilyJ>(j));
+  }
+  template <class F> KOKKOS_INLINE_FUNCTION double equivalent_radius_of(int i) const {
+    if constexpr (std::is_same_v<F, SuperquadricFamily>)
+      return F::equivalent_radius(table, shapes, p, i);
+    else
+      return F::equivalent_radius(typename F::Table{}, shapes, p, i);
+  }
+};
+
 template <> struct NarrowPhase<SuperquadricFamily, SuperquadricFamily> : SuperquadricPairState {
   static constexpr const char* label = "kdem::superquadric_pair_forces";
   static constexpr bool tallied = true;
@@ -263,10 +276,10 @@ template <> struct NarrowPhase<SuperquadricFamily, SuperquadricFamily> : Superqu
   explicit NarrowPhase(const ContactContext& c) : SuperquadricPairState(c) {}
 
   PairsToEvaluate select(const ContactContext& c, PairTypeRows& type_rows) const {
-    return superquadric_pairs_in_reach(p, table, shapes, c.pairs, type_rows, c.surface_travel,
-                                       table.settings.separation_certificates,
-                                       table.settings.box_certificates,
-                                       table.settings.compact_candidates);
+    return implicit_pairs_in_reach<SuperquadricFamily>(
+        p, table, shapes, c.pairs, type_rows, c.surface_travel,
+        table.settings.separation_certificates, table.settings.box_certificates,
+        table.settings.compact_candidates);
   }
 
   // The Newton start is the last midway point moved on by its last step (relative to the

@@ -7,27 +7,28 @@
 
 namespace kdem {
 
-// A superquadric particle against a wall element, posed in the wall's frame; the Hertz radius
-// from the particle's curvature at its deepest point (a wall is flat or much larger).
-struct SuperquadricWallContactOf {
+// A particle of a family with an implicit surface (superquadric, poly-superquadric) against a
+// wall element, posed in the wall's frame; the Hertz radius from the particle's curvature at its
+// deepest point (a wall is flat or much larger).
+template <class F> struct ImplicitWallContactOf {
   static constexpr int max_contacts = 1;
   WallElements el;
-  SuperquadricFamily::Table table;
+  typename F::Table table;
   ShapeFamilies shapes;
   ParticleViews p;
   double limit = 2;
 
   KOKKOS_INLINE_FUNCTION WallContactGeometry operator()(int i, int e, const WallPose& wall) const {
-    const SurfaceWallContact local = surface_element_contact(
-        el, e, in_wall_frame(SuperquadricFamily::pose(table, shapes, p, i), wall));
+    const SurfaceWallContact local =
+        surface_element_contact(el, e, in_wall_frame(F::pose(table, shapes, p, i), wall));
     WallContactGeometry contact;
     contact.geometry = local.geometry;
     if (!local.geometry.touching)
       return contact;
     contact.geometry.normal = rotate(wall.rotation, local.geometry.normal);
     contact.geometry.point = wall.to_world(local.geometry.point);
-    contact.effective_radius = curvature_radius(
-        local.curvature, 0.0, SuperquadricFamily::equivalent_radius(table, shapes, p, i), limit);
+    contact.effective_radius =
+        curvature_radius(local.curvature, 0.0, F::equivalent_radius(table, shapes, p, i), limit);
     return contact;
   }
 };
