@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "src/poly_superquadric_scene.hpp"
 #include "src/scene_loader.hpp"
 #include "src/superquadric_scene.hpp"
 
@@ -502,8 +503,8 @@ TEST(SceneKeyErrors, UnknownTopLevelKeyListsTheAllowedKeysAndSuggestsOne) {
   EXPECT_TRUE(fails_with(
       minimal_scene_plus("durration: 1\n"), 14, "durration",
       "expected one of the keys time_step, duration, gravity, skin, sort_by_cell, domain, "
-      "materials, interactions, shapes, superquadric_contact, particles, walls, "
-      "outlets, output, checks, got the key "
+      "materials, interactions, shapes, superquadric_contact, poly_superquadric_contact, "
+      "particles, walls, outlets, output, checks, got the key "
       "\"durration\" (did you mean \"duration\"?)"));
 }
 
@@ -936,11 +937,14 @@ TEST(SceneShapes, SpheresHaveNoShape) {
 
 TEST(SceneShapes, AShapeNamesExactlyOneFamily) {
   const std::string none = "shapes:\n  - name: cube\n    tag: x\n";
-  EXPECT_TRUE(fails_with(minimal_scene_plus(none), 16, "shapes[0].tag",
-                         "expected one of the keys name, superquadric, got the key \"tag\""));
+  EXPECT_TRUE(
+      fails_with(minimal_scene_plus(none), 16, "shapes[0].tag",
+                 "expected one of the keys name, superquadric, poly_superquadric, got the key "
+                 "\"tag\""));
   std::string missing = "shapes:\n  - name: cube\n";
-  EXPECT_TRUE(fails_with(minimal_scene_plus(missing), 15, "shapes[0]",
-                         "expected exactly one of the keys superquadric, got none"));
+  EXPECT_TRUE(
+      fails_with(minimal_scene_plus(missing), 15, "shapes[0]",
+                 "expected exactly one of the keys superquadric, poly_superquadric, got none"));
 }
 
 TEST(SceneShapes, UnknownShapeNamesTheDefinedOnes) {
@@ -992,6 +996,69 @@ TEST(SceneShapes, ToleranceOutOfRange) {
   EXPECT_TRUE(fails_with(minimal_scene_plus("superquadric_contact: {tolerance: 0.5}\n"), 14,
                          "superquadric_contact.tolerance",
                          "expected a Newton tolerance in (0, 1e-2], got \"0.5\""));
+}
+
+// ---- poly-superquadric shapes -----------------------------------------------------------------
+
+const std::string hemisphere_shape = "shapes:\n"                                       // 14
+                                     "  - name: hemisphere\n"                          // 15
+                                     "    poly_superquadric:\n"                        // 16
+                                     "      half_axes_plus: [0.006, 0.006, 0.006]\n"   // 17
+                                     "      half_axes_minus: [1.0e-5, 0.006, 0.005]\n" // 18
+                                     "      blockiness: [2, 3]\n";                     // 19
+
+TEST(ScenePolySuperquadrics, ShapeAndSettingsAreRead) {
+  const SceneConfig scene =
+      load_text(minimal_scene_with(11, "    shape: hemisphere") + hemisphere_shape +
+                "poly_superquadric_contact: {tolerance: 1.0e-9, curvature_limit: 4, "
+                "separation_certificates: false}\n");
+  ASSERT_EQ(scene.shapes.size(), 1u);
+  EXPECT_EQ(scene.shapes[0].family, "poly_superquadric");
+  const kdem::PolySuperquadricShapeParameters& shape =
+      kdem::poly_superquadric_parameters(scene.shapes[0]);
+  EXPECT_EQ(shape.half_axes_plus, (kdem::Vec3d{0.006, 0.006, 0.006}));
+  EXPECT_EQ(shape.half_axes_minus, (kdem::Vec3d{1e-5, 0.006, 0.005}));
+  EXPECT_EQ(shape.n1, 2);
+  EXPECT_EQ(shape.n2, 3);
+  // The default skin follows the smallest half-width (r+ + r-) / 2, not the thin cap's extent.
+  EXPECT_DOUBLE_EQ(scene.skin, kdem::default_skin_per_radius * 0.5 * (0.006 + 1e-5));
+  const auto& settings = dynamic_cast<const kdem::SuperquadricContactConfig&>(
+      *scene.family_settings.at("poly_superquadric"));
+  EXPECT_EQ(settings.tolerance, 1e-9);
+  EXPECT_EQ(settings.curvature_limit, 4);
+  EXPECT_FALSE(settings.separation_certificates);
+  EXPECT_THROW(kdem::superquadric_parameters(scene.shapes[0]), std::logic_error);
+}
+
+TEST(ScenePolySuperquadrics, NonPositiveExtentNamesItsSide) {
+  std::string text = hemisphere_shape;
+  text.replace(text.find("1.0e-5"), 6, "0");
+  EXPECT_TRUE(fails_with(minimal_scene_plus(text), 18,
+                         "shapes[0].poly_superquadric.half_axes_minus",
+                         "expected three positive extents r_x-, r_y-, r_z- in metres"));
+  text = hemisphere_shape;
+  text.replace(text.find("[0.006, 0.006, 0.006]"), 21, "[0.006, 0.006]");
+  EXPECT_TRUE(fails_with(minimal_scene_plus(text), 17, "shapes[0].poly_superquadric.half_axes_plus",
+                         "r_x+, r_y+, r_z+"));
+}
+
+TEST(ScenePolySuperquadrics, MissingKeyAndBlockinessOutOfRange) {
+  std::string text = hemisphere_shape;
+  text.erase(text.find("      half_axes_minus"),
+             std::string("      half_axes_minus: [1.0e-5, 0.006, 0.005]\n").size());
+  EXPECT_TRUE(fails_with(minimal_scene_plus(text), 17,
+                         "shapes[0].poly_superquadric.half_axes_minus",
+                         "got nothing (required key is missing)"));
+  text = hemisphere_shape;
+  text.replace(text.find("[2, 3]"), 6, "[2, 30]");
+  EXPECT_TRUE(fails_with(minimal_scene_plus(text), 19, "shapes[0].poly_superquadric.blockiness[1]",
+                         "expected a blockiness exponent in [2, 20], got \"30\""));
+}
+
+TEST(ScenePolySuperquadrics, SettingsRefuseTheSuperquadricsOwnKeys) {
+  // Lanes and start extrapolation belong to the superquadric narrow phase alone.
+  EXPECT_TRUE(fails_with(minimal_scene_plus("poly_superquadric_contact: {lanes: false}\n"), 14,
+                         "poly_superquadric_contact.lanes", "got the key \"lanes\""));
 }
 
 // A true/false key of superquadric_contact: on by default, off when set false, and anything
