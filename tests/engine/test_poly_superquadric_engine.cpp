@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include "../../shapes/mat3.hpp"
@@ -76,7 +77,9 @@ TEST(PolySuperquadricEngine, SymmetricShapesMoveAsTheSuperquadricsTheyAre) {
   ASSERT_GT(touching, 10); // the bodies did meet
   const double difference =
       largest_position_difference(outcome_of(superquadrics), outcome_of(polys));
-  RecordProperty("largest_position_difference", std::to_string(difference));
+  char written[32];
+  std::snprintf(written, sizeof written, "%.3g", difference);
+  RecordProperty("largest_position_difference", written);
   EXPECT_LT(difference, 1e-11);
   EXPECT_EQ(polys.narrow_phase_totals().failures, 0);
 }
