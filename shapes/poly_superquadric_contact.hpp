@@ -24,9 +24,8 @@
 // a point that rounding puts a hair across the plane would be rejected by both sides. The octant
 // chosen for a point is the half-open one of poly_superquadric.hpp.
 //
-// The surface points, overlap, curvatures and separation bound are taken from the whole bodies'
-// piecewise functions at the accepted point (exact also where a surface point lies across an
-// octant plane from the midway point).
+// The surface points, overlap, curvatures and separation bound are the whole bodies' at the
+// accepted point (see whole_body_result).
 #include <cstdint>
 
 #include "poly_superquadric.hpp"
@@ -75,23 +74,34 @@ template <class BodyJ> KOKKOS_INLINE_FUNCTION int piece_pair(int ki, int kj, con
   return ki * pieces_of(j) + kj;
 }
 
-// The whole bodies' contact at their midway point x0 (accepted by the octant tests).
+// The whole bodies' contact at their midway point x0 (accepted by the octant tests). Where both
+// surface points of the element solve lie in its octants, the chord lies in them too (octants are
+// convex), where F is the element's: its geometry is the whole bodies'. Otherwise the chord is
+// measured again on the whole bodies. The separation bound is always the whole bodies' (it uses
+// their reach).
 template <class BodyI, class BodyJ>
-KOKKOS_INLINE_FUNCTION NarrowPhaseResult whole_body_result(const BodyI& i, const BodyJ& j,
-                                                           const NarrowPhaseResult& solved,
+KOKKOS_INLINE_FUNCTION NarrowPhaseResult whole_body_result(const BodyI& i, const BodyJ& j, int ki,
+                                                           int kj, const NarrowPhaseResult& solved,
                                                            int iterations, int status) {
   using namespace narrow_phase;
   const Vec3 x0 = solved.state.point;
-  const ShapeFunction fi = i.template evaluate_with_body_hessian<true>(x0);
-  const ShapeFunction fj = j.template evaluate_with_body_hessian<true>(x0);
-  NarrowPhaseResult result;
+  NarrowPhaseResult result = solved;
   result.iterations = iterations;
   result.status = status;
-  result.state = solved.state;
-  const Vec3 normal = unit_or_zero(unit_or_zero(fj.gradient) - unit_or_zero(fi.gradient));
-  if (fi.value < 0 && fj.value < 0 && !chord_geometry(i, j, x0, normal, fi, fj, result))
-    return failed_result(iterations);
-  result.separation = separation_bound(i, j, x0, fi, fj);
+  if (solved.geometry.touching) {
+    const Vec3 half = (0.5 * solved.geometry.overlap) * solved.geometry.normal;
+    if (in_piece(i, solved.geometry.point - half, ki) &&
+        in_piece(j, solved.geometry.point + half, kj))
+      return result;
+    const ShapeFunction fi = i.template evaluate_with_body_hessian<true>(x0);
+    const ShapeFunction fj = j.template evaluate_with_body_hessian<true>(x0);
+    const Vec3 normal = unit_or_zero(unit_or_zero(fj.gradient) - unit_or_zero(fi.gradient));
+    if (!chord_geometry(i, j, x0, normal, fi, fj, result))
+      return failed_result(iterations);
+    return result;
+  }
+  result.separation = separation_bound(i, j, x0, i.template evaluate<false>(x0),
+                                       j.template evaluate<false>(x0));
   return result;
 }
 
@@ -123,7 +133,7 @@ KDEM_WHOLE_FUNCTION NarrowPhaseResult piecewise_pair_contact(const BodyI& i, con
     status = r.status;
     const Vec3 x = r.state.point;
     if (in_piece(i, x, ki) && in_piece(j, x, kj))
-      return whole_body_result(i, j, r, iterations, status);
+      return whole_body_result(i, j, ki, kj, r, iterations, status);
     state = r.state;
     ki = piece_at(i, x);
     kj = piece_at(j, x);
@@ -136,7 +146,7 @@ KDEM_WHOLE_FUNCTION NarrowPhaseResult piecewise_pair_contact(const BodyI& i, con
           superquadric_pair_contact(piece(i, a), piece(j, b), MidwayState{}, controls);
       iterations += r.iterations;
       if (r.status != 2 && in_piece(i, r.state.point, a) && in_piece(j, r.state.point, b))
-        return whole_body_result(i, j, r, iterations, 1);
+        return whole_body_result(i, j, a, b, r, iterations, 1);
     }
   return narrow_phase::failed_result(iterations);
 }
