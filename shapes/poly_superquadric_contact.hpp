@@ -100,8 +100,8 @@ KOKKOS_INLINE_FUNCTION NarrowPhaseResult whole_body_result(const BodyI& i, const
       return failed_result(iterations);
     return result;
   }
-  result.separation = separation_bound(i, j, x0, i.template evaluate<false>(x0),
-                                       j.template evaluate<false>(x0));
+  result.separation =
+      separation_bound(i, j, x0, i.template evaluate<false>(x0), j.template evaluate<false>(x0));
   return result;
 }
 
