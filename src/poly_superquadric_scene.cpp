@@ -15,10 +15,6 @@ namespace {
 
 using namespace scene_yaml;
 
-// As for superquadrics: n >= 2 keeps the Hessian finite on the surface, and beyond 20 the
-// corners are sharper than the narrow phase is validated for.
-constexpr double smallest_blockiness = 2, largest_blockiness = 20;
-
 // The family's key in a shape entry and in SceneConfig::family_settings
 // (PolySuperquadricFamily::name).
 const char* const family_name = "poly_superquadric";
@@ -38,15 +34,7 @@ std::shared_ptr<const FamilyShapeParameters> read_poly_superquadric(const Value&
   const Mapping map(value, {"half_axes_plus", "half_axes_minus", "blockiness"});
   shape->half_axes_plus = positive_extents(map.get("half_axes_plus"), "+");
   shape->half_axes_minus = positive_extents(map.get("half_axes_minus"), "-");
-  const Value blockiness = map.get("blockiness");
-  const std::vector<double> exponents =
-      number_list(blockiness, "a sequence [n1, n2] of two blockiness exponents",
-                  "a blockiness exponent in [2, 20]",
-                  [](double n) { return n >= smallest_blockiness && n <= largest_blockiness; });
-  if (exponents.size() != 2)
-    blockiness.expected("a sequence [n1, n2] of two blockiness exponents");
-  shape->n1 = exponents[0];
-  shape->n2 = exponents[1];
+  read_blockiness(map.get("blockiness"), shape->n1, shape->n2);
   return shape;
 }
 

@@ -13,10 +13,6 @@ namespace {
 
 using namespace scene_yaml;
 
-// n >= 2 keeps the Hessian of the shape function finite on the surface; beyond 20 the corners
-// are sharper than the narrow phase is validated for.
-constexpr double smallest_blockiness = 2, largest_blockiness = 20;
-
 // The family's key in a shape entry and in SceneConfig::family_settings (SuperquadricFamily::name).
 const char* const family_name = "superquadric";
 
@@ -28,15 +24,7 @@ std::shared_ptr<const FamilyShapeParameters> read_superquadric(const Value& valu
   for (double axis : shape->half_axes)
     if (!(axis > 0))
       axes.expected("three positive semi-axes a, b, c in metres");
-  const Value blockiness = sq.get("blockiness");
-  const std::vector<double> exponents =
-      number_list(blockiness, "a sequence [n1, n2] of two blockiness exponents",
-                  "a blockiness exponent in [2, 20]",
-                  [](double n) { return n >= smallest_blockiness && n <= largest_blockiness; });
-  if (exponents.size() != 2)
-    blockiness.expected("a sequence [n1, n2] of two blockiness exponents");
-  shape->n1 = exponents[0];
-  shape->n2 = exponents[1];
+  read_blockiness(sq.get("blockiness"), shape->n1, shape->n2);
   return shape;
 }
 
@@ -78,6 +66,20 @@ std::shared_ptr<SuperquadricContactConfig> read_newton_settings(const scene_yaml
   if (auto value_found = map.find("team_size"))
     config.team_size = int(whole_number(*value_found, 0));
   return settings;
+}
+
+// n >= 2 keeps the Hessian of the shape function finite on the surface; beyond 20 the corners
+// are sharper than the narrow phase is validated for.
+void read_blockiness(const scene_yaml::Value& value, double& n1, double& n2) {
+  using namespace scene_yaml;
+  constexpr double smallest = 2, largest = 20;
+  const std::vector<double> exponents = number_list(
+      value, "a sequence [n1, n2] of two blockiness exponents", "a blockiness exponent in [2, 20]",
+      [](double n) { return n >= smallest && n <= largest; });
+  if (exponents.size() != 2)
+    value.expected("a sequence [n1, n2] of two blockiness exponents");
+  n1 = exponents[0];
+  n2 = exponents[1];
 }
 
 double SuperquadricShapeParameters::smallest_size() const {

@@ -32,6 +32,10 @@ struct SuperquadricContactConfig : FamilySettings {
 // Its entry in the registry of scene readers.
 FamilyScene superquadric_scene();
 
+// Reads a `blockiness` value [n1, n2], each in [2, 20] (shared by the families made of
+// superquadric pieces).
+void read_blockiness(const scene_yaml::Value& value, double& n1, double& n2);
+
 // Reads the narrow-phase settings of `keys` (those of SuperquadricContactConfig a family uses),
 // refusing any other key: the superquadrics' reader, shared by the families whose contacts are
 // solved by the superquadric Newton (poly-superquadrics).

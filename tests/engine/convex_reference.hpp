@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "shapes/superquadric.hpp"
+#include "shapes/superquadric_contact.hpp"
 
 namespace kdem::testing {
 
@@ -135,6 +135,19 @@ inline Penetration penetration_depth(const BruteForceBody& i, const BruteForceBo
       best = {-value, n};
   }
   return best;
+}
+
+inline double angle_between(Vec3 a, Vec3 b) {
+  return std::atan2(norm(cross(a, b)), dot(a, b));
+}
+
+// Every number of a narrow-phase result is finite (no NaN ever leaves a narrow phase).
+inline bool finite_result(const NarrowPhaseResult& r) {
+  const ContactGeometry& g = r.geometry;
+  return std::isfinite(g.overlap) && std::isfinite(g.normal.x + g.normal.y + g.normal.z) &&
+         std::isfinite(g.point.x + g.point.y + g.point.z) &&
+         std::isfinite(r.curvature_i + r.curvature_j) &&
+         std::isfinite(r.state.point.x + r.state.point.y + r.state.point.z + r.state.multiplier);
 }
 
 } // namespace kdem::testing

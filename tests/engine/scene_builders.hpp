@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "shapes/mat3.hpp"
 #include "shapes/vec3.hpp"
 #include "src/engine.hpp"
 #include "src/scene.hpp"
@@ -172,6 +173,22 @@ inline RunOutcome run_steps(const SceneConfig& scene, int steps) {
   for (int k = 0; k < steps; ++k)
     engine.step();
   return outcome_of(engine);
+}
+
+// Rigid-body impact theory (e.g. Brach, Mechanical Impact Dynamics, 1991): a body hitting a
+// frictionless wall at point r (from its centre) with normal n gets the impulse
+// J = -(1 + e) v_c.n / (1/m + (r x n).I^-1 (r x n)), v_c the contact point's velocity.
+struct ImpactPrediction {
+  Vec3 velocity, angular_velocity;
+};
+
+inline ImpactPrediction rigid_body_impact(double mass, const Mat3& inverse_inertia_world, Vec3 r,
+                                          Vec3 n, Vec3 v, Vec3 w, double restitution) {
+  const Vec3 rn = cross(r, n);
+  const double normal_speed = dot(v + cross(w, r), n);
+  const double impulse =
+      -(1 + restitution) * normal_speed / (1 / mass + dot(rn, inverse_inertia_world * rn));
+  return {v + (impulse / mass) * n, w + inverse_inertia_world * (impulse * rn)};
 }
 
 } // namespace kdem::testing

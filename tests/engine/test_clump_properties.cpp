@@ -17,44 +17,15 @@
 #include "shapes/sphere.hpp"
 
 #include "geometry_test_support.hpp"
+#include "numeric_test_support.hpp"
 
 namespace kdem {
 namespace {
 
-std::string scientific(double v) {
-  std::ostringstream out;
-  out << std::scientific << v;
-  return out.str();
-}
+using namespace testing;
 
 ClumpElement sphere_element(double radius, Vec3 centre) {
   return ClumpElement{make_superquadric(radius, radius, radius, 2, 2), centre, Quat{}};
-}
-
-Mat3 diagonal(Vec3 d) {
-  Mat3 a;
-  a.m[0][0] = d.x, a.m[1][1] = d.y, a.m[2][2] = d.z;
-  return a;
-}
-
-double frobenius(const Mat3& a) {
-  double sum = 0;
-  for (int r = 0; r < 3; ++r)
-    for (int k = 0; k < 3; ++k)
-      sum += a.m[r][k] * a.m[r][k];
-  return std::sqrt(sum);
-}
-
-double max_abs_difference(const Mat3& a, const Mat3& b) {
-  double largest = 0;
-  for (int r = 0; r < 3; ++r)
-    for (int k = 0; k < 3; ++k)
-      largest = std::max(largest, std::fabs(a.m[r][k] - b.m[r][k]));
-  return largest;
-}
-
-double determinant(const Mat3& a) {
-  return dot(cross(column(a, 0), column(a, 1)), column(a, 2));
 }
 
 // The second moments about the centroid, M, from I = tr(M) 1 - M.
@@ -262,7 +233,7 @@ TEST(ClumpProperties, TwoOverlappingSpheresMatchTheLens) {
     const double measured_perpendicular = dot(normal, props.inertia_per_density * normal);
     const double trace_exact = axial + 2 * perpendicular;
     const double gyration = std::sqrt(trace_exact / (2 * volume));
-    SCOPED_TRACE(testing::Message() << "d = " << d << " precision " << props.relative_precision
+    SCOPED_TRACE(::testing::Message() << "d = " << d << " precision " << props.relative_precision
                                     << " levels " << props.grid_levels);
     const double allowed = allowed_error(props, requested);
     EXPECT_LE(props.relative_precision, requested);

@@ -24,10 +24,6 @@ namespace {
 
 using namespace testing;
 
-double angle_between(Vec3 a, Vec3 b) {
-  return std::atan2(norm(cross(a, b)), dot(a, b));
-}
-
 PosedPolySuperquadric posed_poly(Vec3 plus, Vec3 minus, double n1, double n2, Vec3 origin, Quat q) {
   return PosedPolySuperquadric{make_poly_superquadric(plus, minus, n1, n2), origin,
                                rotation_matrix(q)};
@@ -113,14 +109,6 @@ Comparison compare_with_reference(const PolyCase& c, const NarrowPhaseResult& r)
   out.normal_error = angle_between(r.geometry.normal, ref.normal);
   out.chord_excess = (r.geometry.overlap - projected_overlap(bi, bj, r.geometry.normal)) / size;
   return out;
-}
-
-bool finite_result(const NarrowPhaseResult& r) {
-  const ContactGeometry& g = r.geometry;
-  return std::isfinite(g.overlap) && std::isfinite(g.normal.x + g.normal.y + g.normal.z) &&
-         std::isfinite(g.point.x + g.point.y + g.point.z) &&
-         std::isfinite(r.curvature_i + r.curvature_j) &&
-         std::isfinite(r.state.point.x + r.state.point.y + r.state.point.z + r.state.multiplier);
 }
 
 Vec3 random_extents(std::mt19937_64& rng) {

@@ -84,20 +84,6 @@ TEST(PolySuperquadricEngine, SymmetricShapesMoveAsTheSuperquadricsTheyAre) {
   EXPECT_EQ(polys.narrow_phase_totals().failures, 0);
 }
 
-// Rigid-body impact theory (e.g. Brach, Mechanical Impact Dynamics, 1991) for a frictionless
-// wall: J = -(1 + e) v_c.n / (1/m + (r x n).I^-1 (r x n)).
-struct ImpactPrediction {
-  Vec3 velocity, angular_velocity;
-};
-
-ImpactPrediction rigid_body_impact(double mass, const Mat3& inverse_inertia_world, Vec3 r, Vec3 n,
-                                   Vec3 v, double restitution) {
-  const Vec3 rn = cross(r, n);
-  const double impulse =
-      -(1 + restitution) * dot(v, n) / (1 / mass + dot(rn, inverse_inertia_world * rn));
-  return {v + (impulse / mass) * n, inverse_inertia_world * (impulse * rn)};
-}
-
 class HemisphereDrop : public ::testing::TestWithParam<double> {};
 
 // The book's hemisphere (r_x- = r0 / 600) lands on its dome at angle phi0 between its flat
@@ -134,7 +120,7 @@ TEST_P(HemisphereDrop, ReboundFollowsRigidBodyImpactTheory) {
   const Vec3 contact = sphere_centre - Vec3{0, 0, r0};
   const ImpactPrediction expected =
       rigid_body_impact(mass, rotate_tensor(rotation_matrix(orientation), inverse_body),
-                        contact - (sphere_centre + c0 * dome), Vec3{0, 0, 1}, v0, 1.0);
+                        contact - (sphere_centre + c0 * dome), Vec3{0, 0, 1}, v0, Vec3{}, 1.0);
 
   bool touched = false;
   for (int k = 0; k < 100000; ++k) {

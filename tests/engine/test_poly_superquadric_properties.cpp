@@ -19,41 +19,12 @@
 #include "shapes/symmetric_eigen.hpp"
 
 #include "geometry_test_support.hpp"
+#include "numeric_test_support.hpp"
 
 namespace kdem {
 namespace {
 
-std::string scientific(double v) {
-  std::ostringstream out;
-  out << std::scientific << v;
-  return out.str();
-}
-
-double frobenius(const Mat3& a) {
-  double sum = 0;
-  for (int r = 0; r < 3; ++r)
-    for (int k = 0; k < 3; ++k)
-      sum += a.m[r][k] * a.m[r][k];
-  return std::sqrt(sum);
-}
-
-double max_abs_difference(const Mat3& a, const Mat3& b) {
-  double largest = 0;
-  for (int r = 0; r < 3; ++r)
-    for (int k = 0; k < 3; ++k)
-      largest = std::max(largest, std::fabs(a.m[r][k] - b.m[r][k]));
-  return largest;
-}
-
-double determinant(const Mat3& a) {
-  return dot(cross(column(a, 0), column(a, 1)), column(a, 2));
-}
-
-Mat3 diagonal(Vec3 d) {
-  Mat3 a;
-  a.m[0][0] = d.x, a.m[1][1] = d.y, a.m[2][2] = d.z;
-  return a;
-}
+using namespace testing;
 
 // The second moments about the centroid, M, from I = tr(M) 1 - M (tr I = 2 tr M).
 Mat3 second_moments_of(const Mat3& inertia) {
@@ -170,26 +141,6 @@ TEST(SymmetricEigen, RepeatedEigenvaluesAreHandled) {
 // ---------------------------------------------------------------------------------------------
 // Octant moments
 
-// Tanh-sinh nodes on [0, 1] with each node's distance to 1 kept separately (1 - x would cancel
-// near 1, where the integrands have their (1 - x)^(1/n) endpoint behaviour).
-struct QuadratureNode {
-  double x, complement, weight;
-};
-
-std::vector<QuadratureNode> tanh_sinh_nodes(int per_unit, double reach) {
-  std::vector<QuadratureNode> nodes;
-  const double h = 1.0 / per_unit;
-  const int count = int(reach * per_unit);
-  for (int i = -count; i <= count; ++i) {
-    const double t = i * h;
-    const double s = 0.5 * pi * std::sinh(t);
-    const double cosh_s = std::cosh(s);
-    nodes.push_back({1.0 / (1.0 + std::exp(-2.0 * s)), 1.0 / (1.0 + std::exp(2.0 * s)),
-                     h * 0.25 * pi * std::cosh(t) / (cosh_s * cosh_s)});
-  }
-  return nodes;
-}
-
 // 1 - x^n from 1 - x, without cancellation.
 double one_minus_power(double complement, double n) {
   return -std::expm1(n * std::log1p(-complement));
@@ -264,7 +215,7 @@ TEST(PolySuperquadricProperties, SymmetricShapeIsTheSuperquadric) {
     const Vec3 axes{sq.a, sq.b, sq.c};
     const PolySuperquadricShape s = make_poly_superquadric(axes, axes, sq.n1, sq.n2);
     const PolySuperquadricMassProperties props = poly_superquadric_mass_properties(s);
-    SCOPED_TRACE(testing::Message() << "a,b,c = " << sq.a << "," << sq.b << "," << sq.c
+    SCOPED_TRACE(::testing::Message() << "a,b,c = " << sq.a << "," << sq.b << "," << sq.c
                                     << " n1,n2 = " << sq.n1 << "," << sq.n2);
     // Different Beta-function arguments for the same integrals (Jaklic's eps form against J):
     // each rounds to a few ulps, so 1e-12 relative.
@@ -348,7 +299,7 @@ TEST(PolySuperquadricProperties, AsymmetricShapesMatchMonteCarlo) {
     const double expected[10] = {props.volume, 0,         0,         0,         m.m[0][0],
                                  m.m[1][1],    m.m[2][2], m.m[0][1], m.m[0][2], m.m[1][2]};
     const MonteCarloMoments mc = monte_carlo_moments(s, props.centroid, 1000000, seed++);
-    SCOPED_TRACE(testing::Message() << "plus = " << c.plus.x << "," << c.plus.y << "," << c.plus.z
+    SCOPED_TRACE(::testing::Message() << "plus = " << c.plus.x << "," << c.plus.y << "," << c.plus.z
                                     << " minus = " << c.minus.x << "," << c.minus.y << ","
                                     << c.minus.z << " n1,n2 = " << c.n1 << "," << c.n2);
     for (int k = 0; k < 10; ++k) {
@@ -465,7 +416,7 @@ TEST(PolySuperquadricProperties, BoundingRadiusIsConservativeAndTight) {
     for (const Vec3 about : {centroid, Vec3{}, 0.5 * s.plus}) {
       const double radius = poly_superquadric_bounding_radius(s, about);
       const double farthest = sampled_radius(s, about, rng);
-      SCOPED_TRACE(testing::Message()
+      SCOPED_TRACE(::testing::Message()
                    << "plus = " << s.plus.x << "," << s.plus.y << "," << s.plus.z
                    << " minus = " << s.minus.x << "," << s.minus.y << "," << s.minus.z
                    << " n1,n2 = " << s.exponents.n1 << "," << s.exponents.n2 << " about " << about.x

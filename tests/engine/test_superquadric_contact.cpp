@@ -28,10 +28,6 @@ namespace {
 
 using namespace testing;
 
-double angle_between(Vec3 a, Vec3 b) {
-  return std::atan2(norm(cross(a, b)), dot(a, b));
-}
-
 // ------------------------------------------------------------------ device runs
 
 struct PairCase {
@@ -136,14 +132,6 @@ Comparison compare_with_reference(const PairCase& c, const NarrowPhaseResult& r)
   out.chord_excess =
       (r.geometry.overlap - projected_overlap(bi, bj, r.geometry.normal)) / size_of_pair(c.i, c.j);
   return out;
-}
-
-bool finite_result(const NarrowPhaseResult& r) {
-  const ContactGeometry& g = r.geometry;
-  return std::isfinite(g.overlap) && std::isfinite(g.normal.x + g.normal.y + g.normal.z) &&
-         std::isfinite(g.point.x + g.point.y + g.point.z) &&
-         std::isfinite(r.curvature_i + r.curvature_j) &&
-         std::isfinite(r.state.point.x + r.state.point.y + r.state.point.z + r.state.multiplier);
 }
 
 void print_histogram(const std::string& title, const std::vector<NarrowPhaseResult>& results) {

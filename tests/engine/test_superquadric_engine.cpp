@@ -158,22 +158,6 @@ TEST(SuperquadricEngine, ObliqueEllipsoidCollisionKeepsMomenta) {
   EXPECT_EQ(engine.narrow_phase_totals().failures, 0);
 }
 
-// Rigid-body impact theory (e.g. Brach, Mechanical Impact Dynamics, 1991): a body hitting a
-// frictionless wall at point r (from its centre) with normal n gets the impulse
-// J = -(1 + e) v_c.n / (1/m + (r x n).I^-1 (r x n)), v_c the contact point's velocity.
-struct ImpactPrediction {
-  Vec3 velocity, angular_velocity;
-};
-
-ImpactPrediction rigid_body_impact(double mass, const Mat3& inverse_inertia_world, Vec3 r, Vec3 n,
-                                   Vec3 v, Vec3 w, double restitution) {
-  const Vec3 rn = cross(r, n);
-  const double normal_speed = dot(v + cross(w, r), n);
-  const double impulse =
-      -(1 + restitution) * normal_speed / (1 / mass + dot(rn, inverse_inertia_world * rn));
-  return {v + (impulse / mass) * n, w + inverse_inertia_world * (impulse * rn)};
-}
-
 // A cylinder-like superquadric (n1 = 8, n2 = 2) falls onto a frictionless plane at several
 // tilts; elastic contact, so that the theory's restitution and the contact law's agree. The
 // body turns by up to ~1e-2 rad during the contact, which the theory neglects.

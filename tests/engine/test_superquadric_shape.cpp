@@ -17,9 +17,12 @@
 #include "shapes/superquadric_properties.hpp"
 
 #include "geometry_test_support.hpp"
+#include "numeric_test_support.hpp"
 
 namespace kdem {
 namespace {
+
+using namespace testing;
 
 Vec3 unit_axis(int k) {
   return {k == 0 ? 1.0 : 0.0, k == 1 ? 1.0 : 0.0, k == 2 ? 1.0 : 0.0};
@@ -37,20 +40,6 @@ double max_abs(const Mat3& m) {
   return largest;
 }
 
-double max_abs_difference(const Mat3& a, const Mat3& b) {
-  double largest = 0;
-  for (int r = 0; r < 3; ++r)
-    for (int k = 0; k < 3; ++k)
-      largest = std::max(largest, std::fabs(a.m[r][k] - b.m[r][k]));
-  return largest;
-}
-
-std::string scientific(double v) {
-  std::ostringstream out;
-  out << std::scientific << v;
-  return out.str();
-}
-
 // Shapes across the exponent range [2, 10], integer and not, n1 == n2 and not, aspect 0.2 to 5.
 std::vector<SuperquadricShape> test_shapes() {
   return {make_superquadric(1, 1, 1, 2, 2),           make_superquadric(1, 0.7, 1.5, 4, 3),
@@ -63,25 +52,6 @@ std::vector<SuperquadricShape> test_shapes() {
 
 // ---------------------------------------------------------------------------------------------
 // Volume and inertia
-
-// Tanh-sinh nodes on [0, 1]: exponentially convergent even with the (1 - t)^(1/n) endpoint
-// behaviour of the superquadric's limits of integration.
-struct QuadratureNode {
-  double x, weight;
-};
-
-std::vector<QuadratureNode> tanh_sinh_nodes(int per_unit, double reach) {
-  std::vector<QuadratureNode> nodes;
-  const double h = 1.0 / per_unit;
-  const int count = int(reach * per_unit);
-  for (int i = -count; i <= count; ++i) {
-    const double t = i * h;
-    const double u = 0.5 * pi * std::sinh(t);
-    const double cosh_u = std::cosh(u);
-    nodes.push_back({0.5 * (1.0 + std::tanh(u)), h * 0.25 * pi * std::cosh(t) / (cosh_u * cosh_u)});
-  }
-  return nodes;
-}
 
 struct MassIntegrals {
   double volume = 0;
@@ -121,7 +91,7 @@ TEST(SuperquadricShape, VolumeAndInertiaMatchQuadrature) {
     // Tanh-sinh with 449^2 nodes converges to ~1e-13 here; 1e-10 leaves room without hiding any
     // error in a Beta-function argument (those change the result at the 1e-2 level).
     const double tolerance = 1e-10;
-    SCOPED_TRACE(testing::Message() << "a,b,c = " << s.a << "," << s.b << "," << s.c
+    SCOPED_TRACE(::testing::Message() << "a,b,c = " << s.a << "," << s.b << "," << s.c
                                     << " n1,n2 = " << s.n1 << "," << s.n2);
     EXPECT_NEAR(superquadric_volume(s) / q.volume, 1.0, tolerance);
     for (int k = 0; k < 3; ++k)
@@ -366,7 +336,7 @@ TEST(SuperquadricShape, GradientAndHessianMatchFiniteDifferences) {
     // (~1e-16 |F| / h) keep the differences within 2.4e-8 of the largest entry (measured); a
     // wrong factor or exponent in any entry is an O(1e-3) or larger error.
     const double tolerance = 1e-7;
-    SCOPED_TRACE(testing::Message() << "n1,n2 = " << s.n1 << "," << s.n2 << " point " << p.x << ","
+    SCOPED_TRACE(::testing::Message() << "n1,n2 = " << s.n1 << "," << s.n2 << " point " << p.x << ","
                                     << p.y << "," << p.z);
     EXPECT_LT(local.gradient, tolerance);
     EXPECT_LT(local.hessian, tolerance);
@@ -454,7 +424,7 @@ TEST(SuperquadricShape, IntegerFastPathsAndPowPathMatchTheFormulas) {
       worst = std::max(worst, got == want ? 0.0 : error);
       return got == want ? 0.0 : error;
     };
-    SCOPED_TRACE(testing::Message()
+    SCOPED_TRACE(::testing::Message()
                  << "n1,n2 = " << s.n1 << "," << s.n2 << " integer paths " << (s.n1_integer >= 0)
                  << " point " << cases[c].local_point.x << "," << cases[c].local_point.y << ","
                  << cases[c].local_point.z);
@@ -488,7 +458,7 @@ TEST(SuperquadricShape, ValuesOnTheAxisAndThePlanesAreTheLimits) {
     const SuperquadricShape& s = cases[c].posed.shape;
     const Vec3 p = cases[c].local_point;
     const ShapeFunction& f = results[c].local;
-    SCOPED_TRACE(testing::Message() << "n1,n2 = " << s.n1 << "," << s.n2 << " point " << p.x << ","
+    SCOPED_TRACE(::testing::Message() << "n1,n2 = " << s.n1 << "," << s.n2 << " point " << p.x << ","
                                     << p.y << "," << p.z);
     ShapeFunction expected;
     if (p.x == 0 && p.y == 0) {
@@ -590,7 +560,7 @@ TEST(SuperquadricShape, CurvaturesMatchClosedForms) {
     // Curvatures are rational in F's derivatives, exact to rounding: 1e-12 of the scale 1/r^k
     // (absolute, so that the flat cases with curvature 0 are held to the same bound).
     const double mean_scale = std::max(e.mean, 1.0), gaussian_scale = std::max(e.gaussian, 1.0);
-    SCOPED_TRACE(testing::Message() << "case " << c << " n1,n2 = " << cases[c].posed.shape.n1 << ","
+    SCOPED_TRACE(::testing::Message() << "case " << c << " n1,n2 = " << cases[c].posed.shape.n1 << ","
                                     << cases[c].posed.shape.n2);
     EXPECT_NEAR(results[c].mean, e.mean, 1e-12 * mean_scale);
     EXPECT_NEAR(results[c].gaussian, e.gaussian, 1e-12 * gaussian_scale);
@@ -760,7 +730,7 @@ TEST(SuperquadricShape, BoundingBoxesOverlapMatchesBruteForce) {
     const BoxResult& cold = results[n * (obb_axis_count + 1)];
     const double size =
         superquadric_bounding_radius(i.shape) + superquadric_bounding_radius(j.shape);
-    SCOPED_TRACE(testing::Message() << "pair " << n << " kind " << n % 6);
+    SCOPED_TRACE(::testing::Message() << "pair " << n << " kind " << n % 6);
     const BoxTruth truth = brute_force_boxes(i, j);
     if (truth == BoxTruth::overlap) {
       ++overlapping;
