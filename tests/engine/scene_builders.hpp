@@ -1,5 +1,7 @@
 #pragma once
 // Small programmatic scenes for engine tests.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -189,6 +191,22 @@ inline ImpactPrediction rigid_body_impact(double mass, const Mat3& inverse_inert
   const double impulse =
       -(1 + restitution) * normal_speed / (1 / mass + dot(rn, inverse_inertia_world * rn));
   return {v + (impulse / mass) * n, w + inverse_inertia_world * (impulse * rn)};
+}
+
+// Steps until the particles have touched a wall and left it again; false (with a test failure
+// naming why) when they never touched or are still touching after max_steps.
+inline bool run_through_wall_impact(Engine& engine, int max_steps) {
+  bool touched = false;
+  for (int k = 0; k < max_steps; ++k) {
+    engine.step();
+    const int contacts = engine.diagnostics().wall_contacts;
+    touched = touched || contacts > 0;
+    if (touched && contacts == 0)
+      return true;
+  }
+  ADD_FAILURE() << (touched ? "still in contact" : "never touched") << " after " << max_steps
+                << " steps";
+  return false;
 }
 
 } // namespace kdem::testing
