@@ -234,7 +234,7 @@ TEST(ClumpProperties, TwoOverlappingSpheresMatchTheLens) {
     const double trace_exact = axial + 2 * perpendicular;
     const double gyration = std::sqrt(trace_exact / (2 * volume));
     SCOPED_TRACE(::testing::Message() << "d = " << d << " precision " << props.relative_precision
-                                    << " levels " << props.grid_levels);
+                                      << " levels " << props.grid_levels);
     const double allowed = allowed_error(props, requested);
     EXPECT_LE(props.relative_precision, requested);
     EXPECT_NEAR(props.volume / volume, 1.0, allowed);

@@ -216,7 +216,7 @@ TEST(PolySuperquadricProperties, SymmetricShapeIsTheSuperquadric) {
     const PolySuperquadricShape s = make_poly_superquadric(axes, axes, sq.n1, sq.n2);
     const PolySuperquadricMassProperties props = poly_superquadric_mass_properties(s);
     SCOPED_TRACE(::testing::Message() << "a,b,c = " << sq.a << "," << sq.b << "," << sq.c
-                                    << " n1,n2 = " << sq.n1 << "," << sq.n2);
+                                      << " n1,n2 = " << sq.n1 << "," << sq.n2);
     // Different Beta-function arguments for the same integrals (Jaklic's eps form against J):
     // each rounds to a few ulps, so 1e-12 relative.
     const double tolerance = 1e-12;
@@ -300,8 +300,8 @@ TEST(PolySuperquadricProperties, AsymmetricShapesMatchMonteCarlo) {
                                  m.m[1][1],    m.m[2][2], m.m[0][1], m.m[0][2], m.m[1][2]};
     const MonteCarloMoments mc = monte_carlo_moments(s, props.centroid, 1000000, seed++);
     SCOPED_TRACE(::testing::Message() << "plus = " << c.plus.x << "," << c.plus.y << "," << c.plus.z
-                                    << " minus = " << c.minus.x << "," << c.minus.y << ","
-                                    << c.minus.z << " n1,n2 = " << c.n1 << "," << c.n2);
+                                      << " minus = " << c.minus.x << "," << c.minus.y << ","
+                                      << c.minus.z << " n1,n2 = " << c.n1 << "," << c.n2);
     for (int k = 0; k < 10; ++k) {
       // 10^6 samples: the estimates are normal to a good approximation; 4 standard errors fail
       // a correct formula with probability 6e-5 each (and the seed is fixed), while a wrong

@@ -92,7 +92,7 @@ TEST(SuperquadricShape, VolumeAndInertiaMatchQuadrature) {
     // error in a Beta-function argument (those change the result at the 1e-2 level).
     const double tolerance = 1e-10;
     SCOPED_TRACE(::testing::Message() << "a,b,c = " << s.a << "," << s.b << "," << s.c
-                                    << " n1,n2 = " << s.n1 << "," << s.n2);
+                                      << " n1,n2 = " << s.n1 << "," << s.n2);
     EXPECT_NEAR(superquadric_volume(s) / q.volume, 1.0, tolerance);
     for (int k = 0; k < 3; ++k)
       EXPECT_NEAR(inertia[k] / expected[k], 1.0, tolerance) << "axis " << k;
@@ -336,8 +336,8 @@ TEST(SuperquadricShape, GradientAndHessianMatchFiniteDifferences) {
     // (~1e-16 |F| / h) keep the differences within 2.4e-8 of the largest entry (measured); a
     // wrong factor or exponent in any entry is an O(1e-3) or larger error.
     const double tolerance = 1e-7;
-    SCOPED_TRACE(::testing::Message() << "n1,n2 = " << s.n1 << "," << s.n2 << " point " << p.x << ","
-                                    << p.y << "," << p.z);
+    SCOPED_TRACE(::testing::Message() << "n1,n2 = " << s.n1 << "," << s.n2 << " point " << p.x
+                                      << "," << p.y << "," << p.z);
     EXPECT_LT(local.gradient, tolerance);
     EXPECT_LT(local.hessian, tolerance);
     EXPECT_LT(world.gradient, tolerance);
@@ -458,8 +458,8 @@ TEST(SuperquadricShape, ValuesOnTheAxisAndThePlanesAreTheLimits) {
     const SuperquadricShape& s = cases[c].posed.shape;
     const Vec3 p = cases[c].local_point;
     const ShapeFunction& f = results[c].local;
-    SCOPED_TRACE(::testing::Message() << "n1,n2 = " << s.n1 << "," << s.n2 << " point " << p.x << ","
-                                    << p.y << "," << p.z);
+    SCOPED_TRACE(::testing::Message() << "n1,n2 = " << s.n1 << "," << s.n2 << " point " << p.x
+                                      << "," << p.y << "," << p.z);
     ShapeFunction expected;
     if (p.x == 0 && p.y == 0) {
       // On the z axis the section terms vanish in the limit (n1 > 2, or n1 == n2), and for
@@ -560,8 +560,8 @@ TEST(SuperquadricShape, CurvaturesMatchClosedForms) {
     // Curvatures are rational in F's derivatives, exact to rounding: 1e-12 of the scale 1/r^k
     // (absolute, so that the flat cases with curvature 0 are held to the same bound).
     const double mean_scale = std::max(e.mean, 1.0), gaussian_scale = std::max(e.gaussian, 1.0);
-    SCOPED_TRACE(::testing::Message() << "case " << c << " n1,n2 = " << cases[c].posed.shape.n1 << ","
-                                    << cases[c].posed.shape.n2);
+    SCOPED_TRACE(::testing::Message() << "case " << c << " n1,n2 = " << cases[c].posed.shape.n1
+                                      << "," << cases[c].posed.shape.n2);
     EXPECT_NEAR(results[c].mean, e.mean, 1e-12 * mean_scale);
     EXPECT_NEAR(results[c].gaussian, e.gaussian, 1e-12 * gaussian_scale);
     // Rotating the body rotates g and H together; the curvatures are invariant.
