@@ -249,75 +249,22 @@ KOKKOS_INLINE_FUNCTION double series_radius(double ri, double rj) {
   return ri * rj / (ri + rj);
 }
 
-// What the superquadric narrow phases share: the warm starts they read and write, the tally,
-// the certificates, and how a narrow-phase result becomes the pair's contact. The members of
-// ImplicitPairState, written out again: on that base the Serial memory-check build's layouts
-// parted in the last bit before the shaped pair units were compiled without contraction
-// (docs/performance.md section 25); the superquadric kernel is kept as it was measured.
-struct SuperquadricPairState {
-  ParticleViews p;
+struct SuperquadricPairState : ImplicitPairState {
   SuperquadricFamily::Table table;
-  ShapeFamilies shapes;
-  ContactSlots slots;
-  Vec3View point;
-  ScalarView multiplier;
-  Vec3View step;
-  SeparationCertificates certificates;
-  NarrowPhaseControls controls;
-  double limit = 2;
-  bool extrapolate = true;
-  bool use_lanes = true;
-  int team_size = 0;
 
   explicit SuperquadricPairState(const ContactContext& c)
-      : p(c.particles), table(c.table<SuperquadricFamily>()), shapes(c.shape_families),
-        slots(c.pairs.slots()), point(c.pairs.midway_point), multiplier(c.pairs.midway_multiplier),
-        step(c.pairs.midway_step), certificates(c.particles, c.pairs, c.surface_travel,
-                                                table.settings.separation_certificates),
-        controls(table.settings.newton), limit(table.settings.curvature_limit),
-        extrapolate(table.settings.extrapolate_start), use_lanes(table.settings.lanes),
-        team_size(table.settings.team_size) {}
-
-  // The stored point is relative to the midpoint of the two centres, so that it moves with the
-  // pair's mean translation (and is the same for both orders of i and j).
-  KOKKOS_INLINE_FUNCTION Vec3 centres_midpoint(int i, int j) const {
-    return 0.5 * (load3(p.position, i) + load3(p.position, j));
-  }
-
-  KOKKOS_INLINE_FUNCTION MidwayState warm_start(int slot, Vec3 midpoint) const {
-    return MidwayState{load3(point, slot) + midpoint, multiplier(slot)};
-  }
+      : ImplicitPairState(c, c.table<SuperquadricFamily>().settings),
+        table(c.table<SuperquadricFamily>()) {}
 
   template <class FamilyI, class FamilyJ>
   KOKKOS_INLINE_FUNCTION double pair_equivalent_radius(int i, int j) const {
-    const double ri = equivalent_radius_of<FamilyI>(i), rj = equivalent_radius_of<FamilyJ>(j);
-    return ri * rj / (ri + rj);
+    return series_radius(equivalent_radius_of<FamilyI>(i), equivalent_radius_of<FamilyJ>(j));
   }
   template <class F> KOKKOS_INLINE_FUNCTION double equivalent_radius_of(int i) const {
     if constexpr (std::is_same_v<F, SuperquadricFamily>)
       return F::equivalent_radius(table, shapes, p, i);
     else
       return F::equivalent_radius(typename F::Table{}, shapes, p, i);
-  }
-
-  // Counts the evaluation, keeps its warm start (relative to `midpoint`, the centres' midpoint)
-  // and certificate, and gives the contact with the normal of the narrow phase's order (from its
-  // second body towards its first).
-  KOKKOS_INLINE_FUNCTION PairOutcome record(const PairRef& ref, const NarrowPhaseResult& r,
-                                            Vec3 midpoint, double equivalent_radius,
-                                            PairContacts<1>& found, NarrowPhaseTally& tally) const {
-    tally.add(r);
-    const int slot = slots.first(ref.k);
-    store3(point, slot, r.state.point - midpoint);
-    multiplier(slot) = r.state.multiplier;
-    certificates.issue(ref.k, ref.i, ref.j, r.separation);
-    if (!r.geometry.touching)
-      return PairOutcome::apart;
-    found.contact[0].geometry = r.geometry;
-    found.contact[0].effective_radius =
-        curvature_radius(r.curvature_i, r.curvature_j, equivalent_radius, limit);
-    found.count = 1;
-    return PairOutcome::touching;
   }
 };
 
