@@ -7,11 +7,14 @@ namespace kdem {
 
 // A contact point a narrow phase found: its geometry (normal from the second body towards the
 // first, as the narrow phase orders them), its Hertz radius, and the features of the two bodies
-// that touch (0 and 0 for bodies with one contact point), which key its history.
+// that touch (0 and 0 for bodies with one contact point), which key its history; its force is
+// scaled by `weight` (below 1 where contacts of several features share one contact region, see
+// SeamSettings in shapes/clump.hpp).
 struct PairContact {
   ContactGeometry geometry;
   double effective_radius = 0; // m
   int feature_a = 0, feature_b = 0;
+  double weight = 1;
 };
 
 // Up to K contact points of one pair, in the narrow phase's order.
@@ -126,8 +129,8 @@ struct PairSlots {
   // Several contact points of pair k, normals from j towards i; each takes the history of the
   // slot that held the same features (of i, of j) at the last step, or a fresh one, and they are
   // written to the pair's slots in the narrow phase's order (slots left over are cleared). The
-  // pair's force and torque are their sums in that order. `flipped`: the narrow phase's first
-  // body is j.
+  // pair's force and torque are their sums, each weighted, in that order. `flipped`: the narrow
+  // phase's first body is j.
   template <class Law, int K>
   KOKKOS_INLINE_FUNCTION void apply_several(int k, const ParticleViews& p, int i, int j,
                                             const PairContacts<K>& found, bool flipped,
@@ -153,7 +156,9 @@ struct PairSlots {
       keep_history<Law>(first + c, history, contact.geometry.overlap);
       feature_i(first + c) = on_i;
       feature_j(first + c) = on_j;
-      force = c == 0 ? out.force_on_i : force + out.force_on_i;
+      const Vec3 contact_force = contact.weight * out.force_on_i;
+      contact_torque = {contact.weight * contact_torque.on_i, contact.weight * contact_torque.on_j};
+      force = c == 0 ? contact_force : force + contact_force;
       torque = c == 0 ? contact_torque : torque + contact_torque;
     }
     for (int c = count; c < capacity; ++c)

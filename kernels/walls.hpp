@@ -631,6 +631,7 @@ struct WallContactGeometry {
   ContactGeometry geometry;
   double effective_radius = 0; // m
   int feature = 0;
+  double weight = 1; // scales its force (see PairContact)
 };
 
 // Up to K contacts of one particle with one wall element.
@@ -748,9 +749,12 @@ KOKKOS_INLINE_FUNCTION void store_wall_contacts(const WallSlots& slots, int k,
     const ContactOutput out =
         wall_contact_law<Law>(p, i, wall, contact, table, dt, history, contact_torque);
     slots.keep<Law>(first + c, history, contact.geometry.overlap);
-    if (K > 1)
+    if (K > 1) {
       slots.feature(first + c) = contact.feature;
-    force = c == 0 ? out.force_on_i : force + out.force_on_i;
+      contact_torque = contact.weight * contact_torque;
+    }
+    const Vec3 contact_force = K > 1 ? contact.weight * out.force_on_i : out.force_on_i;
+    force = c == 0 ? contact_force : force + contact_force;
     torque = c == 0 ? contact_torque : torque + contact_torque;
   }
   for (int c = n; c < capacity; ++c)
@@ -885,6 +889,24 @@ void compute_wall_contacts(const std::string& label, const ParticleViews& p, con
       });
 }
 
+// The contact of a sphere (centre in the wall's reference frame) whose closest wall feature the
+// query `q` found, in the world frame; none where the feature does not apply.
+KOKKOS_INLINE_FUNCTION WallContactGeometry sphere_wall_contact_from(const WallPose& wall,
+                                                                    Vec3 centre, double radius,
+                                                                    const SurfaceQuery& q,
+                                                                    bool applies) {
+  WallContactGeometry contact;
+  if (!applies)
+    return contact;
+  const ContactGeometry local = sphere_on_surface(centre, radius, q.signed_distance, q.free_normal);
+  contact.geometry.touching = local.touching;
+  contact.geometry.overlap = local.overlap;
+  contact.geometry.normal = rotate(wall.rotation, local.normal);
+  contact.geometry.point = wall.to_world(local.point);
+  contact.effective_radius = radius;
+  return contact;
+}
+
 // A sphere against a wall element: the closest-point query in the wall's frame.
 struct SphereWallContact {
   static constexpr int max_contacts = 1;
@@ -915,18 +937,19 @@ struct SphereWallContact {
   KOKKOS_INLINE_FUNCTION WallContactGeometry contact_from(int i, const WallPose& wall, Vec3 centre,
                                                           const SurfaceQuery& q,
                                                           bool applies) const {
-    WallContactGeometry contact;
-    if (!applies)
-      return contact;
-    const ContactGeometry local =
-        sphere_on_surface(centre, radius(i), q.signed_distance, q.free_normal);
-    contact.geometry.touching = local.touching;
-    contact.geometry.overlap = local.overlap;
-    contact.geometry.normal = rotate(wall.rotation, local.normal);
-    contact.geometry.point = wall.to_world(local.point);
-    contact.effective_radius = radius(i);
-    return contact;
+    return sphere_wall_contact_from(wall, centre, radius(i), q, applies);
   }
 };
+
+// A sphere of `radius` centred at `world_centre` against wall element e (a clump's sphere
+// element; sphere particles go through SphereWallContact, which may use a face certificate).
+KOKKOS_INLINE_FUNCTION WallContactGeometry sphere_wall_contact(const WallElements& el, int e,
+                                                               const WallPose& wall,
+                                                               Vec3 world_centre, double radius) {
+  const Vec3 centre = wall.to_reference(world_centre);
+  bool applies = true;
+  const SurfaceQuery q = query_element(el, e, centre, radius, applies);
+  return sphere_wall_contact_from(wall, centre, radius, q, applies);
+}
 
 } // namespace kdem

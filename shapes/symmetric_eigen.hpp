@@ -107,4 +107,40 @@ inline SymmetricEigen symmetric_eigen(const Mat3& m) {
   return result;
 }
 
+// Products of inertia below this fraction of the trace count as zero: the body's own frame is
+// then principal (rounding of closed forms is ~1e-16 of it).
+constexpr double diagonal_tolerance = 1e-12;
+
+inline bool is_diagonal(const Mat3& tensor) {
+  const double scale = diagonal_tolerance * trace(tensor);
+  return std::fabs(tensor.m[0][1]) <= scale && std::fabs(tensor.m[0][2]) <= scale &&
+         std::fabs(tensor.m[1][2]) <= scale;
+}
+
+// The principal frame of `tensor` (its eigenvectors as columns) whose axes are ordered and
+// signed to lie closest to the frame it is written in, so that a body's principal frame is its own
+// frame (a poly-superquadric's octant frame, a clump's scene frame) wherever that is principal,
+// and turns away from it only as far as the products of inertia make it. Right-handed.
+inline Mat3 principal_frame_nearest(const Mat3& tensor, const Mat3& eigenvectors) {
+  if (is_diagonal(tensor))
+    return identity3();
+  Mat3 axes;
+  bool taken[3] = {false, false, false};
+  for (int axis = 0; axis < 3; ++axis) {
+    int best = -1;
+    for (int k = 0; k < 3; ++k)
+      if (!taken[k] &&
+          (best < 0 || std::fabs(eigenvectors.m[axis][k]) > std::fabs(eigenvectors.m[axis][best])))
+        best = k;
+    taken[best] = true;
+    const double sign = eigenvectors.m[axis][best] < 0 ? -1.0 : 1.0;
+    for (int r = 0; r < 3; ++r)
+      axes.m[r][axis] = sign * eigenvectors.m[r][best];
+  }
+  const Vec3 z = cross(column(axes, 0), column(axes, 1));
+  for (int r = 0; r < 3; ++r)
+    axes.m[r][2] = z[r];
+  return axes;
+}
+
 } // namespace kdem

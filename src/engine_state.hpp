@@ -27,6 +27,7 @@ struct ShapeTemplate {
   double volume = 0;            // m^3
   Vec3 inertia_per_density;     // m^5, principal, body frame
   double equivalent_radius = 0; // m, of the sphere of equal volume
+  int contact_features = 1;     // features it may touch another body with (a clump's elements)
   // How output describes and draws it: values its family names it by (frames per particle,
   // checkpoints per template) and its surface in the body frame.
   std::vector<ShapeField> output_fields;

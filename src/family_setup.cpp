@@ -24,14 +24,16 @@ void Engine::State::setup_shapes() {
       throw std::runtime_error(scene.source_file + ": shape '" + scene.shapes[k].name +
                                "' is of the family '" + scene.shapes[k].family +
                                "', which this build of the engine does not have");
-  std::vector<int> template_of_shape{0};
+  std::vector<int> template_of_shape{0}, features_of_shape{1};
   family_of_shape = {family_index_v<SphereFamily, Families>};
   for (const ShapeTemplate& t : shape_templates) {
     family_of_shape.push_back(t.family);
     template_of_shape.push_back(t.family_template);
+    features_of_shape.push_back(t.contact_features);
   }
   shape_families.family_of_shape = upload<int>("shape_family", family_of_shape);
   shape_families.template_of_shape = upload<int>("shape_template", template_of_shape);
+  shape_families.features_of_shape = upload<int>("shape_features", features_of_shape);
 
   // A shaped source places bounding spheres; its volume fraction counts the true volume.
   for (ParticleSourceConfig& source : scene.sources) {
@@ -60,8 +62,12 @@ template <class F> void Engine::State::setup_family_shapes(std::vector<bool>& se
   const auto settings = scene.family_settings.find(F::name);
   if (settings != scene.family_settings.end())
     family.settings = settings->second.get();
-  std::vector<ShapeTemplate> made =
-      F::setup_templates(family, std::get<family_index_v<F, Families>>(family_tables));
+  std::vector<ShapeTemplate> made;
+  try {
+    made = F::setup_templates(family, std::get<family_index_v<F, Families>>(family_tables));
+  } catch (const std::runtime_error& refused) { // a shape the family cannot build
+    throw std::runtime_error(scene.source_file + ": " + refused.what());
+  }
   if (made.size() != shape_index.size())
     throw std::logic_error(std::string("the setup of the family ") + F::name + " made " +
                            std::to_string(made.size()) + " templates for " +

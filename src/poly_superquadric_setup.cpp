@@ -14,44 +14,10 @@
 namespace kdem {
 namespace {
 
-// Products of inertia below this fraction of the trace count as zero: the octant frame is then
-// principal (rounding of the closed forms is ~1e-16 of it).
-constexpr double diagonal_tolerance = 1e-12;
-
 PolySuperquadricShape shape_of(const PolySuperquadricShapeParameters& config) {
   const auto vec = [](const Vec3d& v) { return Vec3{v[0], v[1], v[2]}; };
   return make_poly_superquadric(vec(config.half_axes_plus), vec(config.half_axes_minus), config.n1,
                                 config.n2);
-}
-
-bool is_diagonal(const Mat3& tensor) {
-  const double scale = diagonal_tolerance * trace(tensor);
-  return std::abs(tensor.m[0][1]) <= scale && std::abs(tensor.m[0][2]) <= scale &&
-         std::abs(tensor.m[1][2]) <= scale;
-}
-
-// The principal axes (columns, octant frame) ordered and signed to lie closest to the octant
-// axes, so that the particle's body frame is the octant frame wherever that is principal and
-// turns away from it only as far as the products of inertia make it.
-Mat3 principal_axes_near_octant_frame(const Mat3& eigenvectors) {
-  Mat3 axes;
-  bool taken[3] = {false, false, false};
-  for (int axis = 0; axis < 3; ++axis) {
-    int best = -1;
-    for (int k = 0; k < 3; ++k)
-      if (!taken[k] &&
-          (best < 0 || std::abs(eigenvectors.m[axis][k]) > std::abs(eigenvectors.m[axis][best])))
-        best = k;
-    taken[best] = true;
-    const double sign = eigenvectors.m[axis][best] < 0 ? -1.0 : 1.0;
-    for (int r = 0; r < 3; ++r)
-      axes.m[r][axis] = sign * eigenvectors.m[r][best];
-  }
-  const Vec3 x = column(axes, 0), y = column(axes, 1);
-  const Vec3 z = cross(x, y); // right-handed
-  for (int r = 0; r < 3; ++r)
-    axes.m[r][2] = z[r];
-  return axes;
 }
 
 // Everything of one shape in its principal frame: the device template, and the host template
@@ -64,9 +30,7 @@ struct PrincipalForm {
 PrincipalForm principal_form(const PolySuperquadricShapeParameters& config) {
   const PolySuperquadricShape shape = shape_of(config);
   const PolySuperquadricMassProperties mass = poly_superquadric_mass_properties(shape);
-  const Mat3 axes = is_diagonal(mass.inertia_per_density)
-                        ? identity3()
-                        : principal_axes_near_octant_frame(mass.principal_axes);
+  const Mat3 axes = principal_frame_nearest(mass.inertia_per_density, mass.principal_axes);
   const Mat3 to_principal = transpose(axes);
   PrincipalForm form;
   form.device.shape = shape;

@@ -15,9 +15,13 @@ namespace kdem {
 struct ShapeFamilies {
   IndexView family_of_shape;
   IndexView template_of_shape;
+  IndexView features_of_shape; // contact features (a clump's elements); empty: 1 for every shape
 
   KOKKOS_INLINE_FUNCTION int family(int shape) const { return family_of_shape(shape); }
   KOKKOS_INLINE_FUNCTION int template_index(int shape) const { return template_of_shape(shape); }
+  KOKKOS_INLINE_FUNCTION int features(int shape) const {
+    return features_of_shape.extent(0) == 0 ? 1 : features_of_shape(shape);
+  }
 };
 
 // Rows of one particle family or one pair type: every row of the store in order (a scene of
@@ -80,10 +84,15 @@ void rows_by_key(const std::string& label, int count, KeyOf key_of, RowSet (&set
       KOKKOS_LAMBDA(int row) { keyed.rows[key_of(row)](position(row)) = row; });
 }
 
-// The most contact points a pair of bodies of families A and B can have: one per pair of the
-// features each may touch with (a sphere: 1; a clump of n elements: n).
+// The most contact points a pair of bodies of families A and B keeps: one per pair of the
+// features each may touch with (a sphere: 1; a clump of n elements: n), at most
+// max_pair_contact_points (a narrow phase that finds more counts the rest as missed).
+constexpr int max_pair_contact_points = 16;
+constexpr int capped_contact_points(int points) {
+  return points < max_pair_contact_points ? points : max_pair_contact_points;
+}
 template <class A, class B>
-constexpr int pair_contact_points = A::contact_points* B::contact_points;
+constexpr int pair_contact_points = capped_contact_points(A::contact_points* B::contact_points);
 
 template <int Count> struct PerPairType {
   int value[Count] = {};
@@ -131,8 +140,9 @@ FamilyRows<List> sort_into_families(const ParticleViews& p, const PairList& list
   return f;
 }
 
-// Gives each pair as many contact slots as its pair type may have contact points, when some
-// pair type of the families in `present` has more than one; otherwise every pair keeps one slot.
+// Gives each pair as many contact slots as its bodies have pairs of features, within its pair
+// type's contact points, when some pair type of the families in `present` has more than one;
+// otherwise every pair keeps one slot.
 template <class List>
 void assign_slots_by_pair_type(PairList& list, const ParticleViews& p, const ShapeFamilies& shapes,
                                int present) {
@@ -153,13 +163,17 @@ void assign_slots_by_pair_type(PairList& list, const ParticleViews& p, const Sha
   auto pair_i = list.pair_i, pair_j = list.pair_j;
   assign_contact_slots(
       list, KOKKOS_LAMBDA(int k) {
-        return points.value[pair_type_index(shapes.family(shape(pair_i(k))),
-                                            shapes.family(shape(pair_j(k))), List::size)];
+        const int si = shape(pair_i(k)), sj = shape(pair_j(k));
+        const int most =
+            points.value[pair_type_index(shapes.family(si), shapes.family(sj), List::size)];
+        const int features = shapes.features(si) * shapes.features(sj);
+        return features < most ? features : most;
       });
 }
 
-// Gives each wall entry as many contact slots as its particle's family has contact points, when
-// some family in `present` has more than one; otherwise every entry keeps one slot.
+// Gives each wall entry as many contact slots as its particle has features, within its family's
+// contact points, when some family in `present` has more than one; otherwise every entry keeps
+// one slot.
 template <class List>
 void assign_wall_slots_by_family(WallContactList& list, const ParticleViews& p,
                                  const ShapeFamilies& shapes, int present) {
@@ -175,7 +189,11 @@ void assign_wall_slots_by_family(WallContactList& list, const ParticleViews& p,
     return;
   auto shape = p.shape;
   assign_wall_contact_slots(
-      list, p.count, KOKKOS_LAMBDA(int i) { return points.value[shapes.family(shape(i))]; });
+      list, p.count, KOKKOS_LAMBDA(int i) {
+        const int most = points.value[shapes.family(shape(i))];
+        const int features = shapes.features(shape(i));
+        return features < most ? features : most;
+      });
 }
 
 } // namespace kdem

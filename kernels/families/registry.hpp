@@ -4,6 +4,7 @@
 // trait, template table, narrow phases against the families before it, and wall contact.
 // A new family is added here, at the end of the list (docs/architecture.md, "Adding a shape
 // family").
+#include "../clump/family.hpp"
 #include "../poly_superquadric/family.hpp"
 #include "../superquadric/family.hpp"
 #include "contact_context.hpp"
@@ -11,7 +12,7 @@
 
 namespace kdem {
 
-using Families = FamilyList<SphereFamily, SuperquadricFamily, PolySuperquadricFamily>;
+using Families = FamilyList<SphereFamily, SuperquadricFamily, PolySuperquadricFamily, ClumpFamily>;
 using ContactContext = ContactContextOf<Families>;
 using EngineFamilyRows = FamilyRows<Families>;
 

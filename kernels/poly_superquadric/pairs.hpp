@@ -40,28 +40,6 @@ struct PolySuperquadricPairState : ImplicitPairState {
   KOKKOS_INLINE_FUNCTION double pair_equivalent_radius(const PairRef& r) const {
     return series_radius(equivalent_radius_of<A>(r.a), equivalent_radius_of<B>(r.b));
   }
-
-  // Bounding spheres and certificates, for the pair types without a prefilter kernel: apart
-  // (contact cleared, warm start dropped), unchanged (a certificate holds) or to be evaluated.
-  KOKKOS_INLINE_FUNCTION bool screened(const PairRef& r, bool i_turns, bool j_turns,
-                                       PairOutcome& outcome) const {
-    if (certificates.unexpired(r.k)) {
-      outcome = PairOutcome::unchanged;
-      return true;
-    }
-    const double reach = p.radius(r.i) + p.radius(r.j);
-    if (norm2(load3(p.position, r.i) - load3(p.position, r.j)) >= reach * reach) {
-      multiplier(slots.first(r.k)) = 0;
-      certificates.revoke(r.k);
-      outcome = PairOutcome::apart;
-      return true;
-    }
-    if (certificates.still_apart(r.k, r.i, r.j, i_turns, j_turns)) {
-      outcome = PairOutcome::unchanged;
-      return true;
-    }
-    return false;
-  }
 };
 
 template <>

@@ -1,0 +1,207 @@
+#pragma once
+// The pair types with clumps, as narrow-phase functors of the one pair loop
+// (families/pair_loop.hpp): sphere, superquadric, poly-superquadric or clump against a clump.
+// After the bodies' bounding spheres and the pair's separation certificate, every element of
+// one body (a convex body is its own one element) is tested against every element of the clump
+// by their bounding spheres, and the pairs within reach solved (shapes/clump.hpp). Each touching
+// element pair is a contact point keyed by its two elements; its Newton warm start lives in the
+// slot of its contact, found again by the key, so an element pair that separates starts cold
+// when it touches again. Seam duplicates are weighted (SeamSettings). The smallest gap bound over
+// the element pairs certifies a pair that does not touch.
+// Included only by the translation units of kernels/pairs/.
+#include <type_traits>
+
+#include "../poly_superquadric/pairs.hpp"
+#include "family.hpp"
+
+namespace kdem {
+
+struct ClumpPairState : ImplicitPairState {
+  ClumpFamily::Table clumps;
+  SuperquadricFamily::Table superquadrics;
+  PolySuperquadricFamily::Table polys;
+  IndexView feature_i, feature_j;
+  SeamSettings seam;
+
+  explicit ClumpPairState(const ContactContext& c)
+      : ImplicitPairState(c, c.table<ClumpFamily>().settings.newton),
+        clumps(c.table<ClumpFamily>()), superquadrics(c.table<SuperquadricFamily>()),
+        polys(c.table<PolySuperquadricFamily>()), feature_i(c.pairs.feature_i),
+        feature_j(c.pairs.feature_j), seam(c.table<ClumpFamily>().settings.seam) {}
+
+  // A convex body (not a clump) as the one piece of its contacts, with its equivalent radius.
+  template <class A> KOKKOS_INLINE_FUNCTION auto whole_body(int a) const {
+    if constexpr (std::is_same_v<A, SphereFamily>)
+      return SpherePiece{load3(p.position, a), p.radius(a)};
+    else if constexpr (std::is_same_v<A, SuperquadricFamily>)
+      return A::pose(superquadrics, shapes, p, a);
+    else
+      return A::pose(polys, shapes, p, a);
+  }
+  template <class A> KOKKOS_INLINE_FUNCTION double whole_equivalent_radius(int a) const {
+    if constexpr (std::is_same_v<A, SphereFamily>)
+      return p.radius(a);
+    else if constexpr (std::is_same_v<A, SuperquadricFamily>)
+      return A::equivalent_radius(superquadrics, shapes, p, a);
+    else
+      return A::equivalent_radius(polys, shapes, p, a);
+  }
+
+  // The contact slots of the pair at the last step: element keys (of i, of j) and warm starts.
+  struct Previous {
+    int kept = 0;
+    FeaturePair key[clump_max_elements];
+    MidwayState state[clump_max_elements]; // point relative to the centres' midpoint
+
+    KOKKOS_INLINE_FUNCTION MidwayState matching(const FeaturePair& wanted, Vec3 midpoint) const {
+      for (int m = 0; m < kept; ++m)
+        if (key[m] == wanted)
+          return MidwayState{state[m].point + midpoint, state[m].multiplier};
+      return MidwayState{};
+    }
+  };
+  KOKKOS_INLINE_FUNCTION Previous previous_of(int k) const {
+    Previous previous;
+    const int first = slots.first(k), end = slots.end(k);
+    for (int s = first; s < end && previous.kept < clump_max_elements; ++s, ++previous.kept) {
+      previous.key[previous.kept] = FeaturePair{feature_i(s), feature_j(s)};
+      previous.state[previous.kept] = MidwayState{load3(point, s), multiplier(s)};
+    }
+    return previous;
+  }
+
+  // What one pair's element loop gathers.
+  template <int K> struct Gathered {
+    PairContacts<K>& found;
+    MidwayState state[K]; // warm starts of the contacts, order (i, j), absolute points
+    double size[K];       // the smaller equivalent radius of each contact's two pieces
+    double gap = 1e300;   // smallest gap bound over the element pairs that do not touch
+
+    KOKKOS_INLINE_FUNCTION explicit Gathered(PairContacts<K>& f) : found(f) {}
+  };
+
+  // One piece of body a (feature_a; centre and reach of its bounding sphere) against element
+  // feature_b of the clump b.
+  template <int K, class PieceA>
+  KOKKOS_INLINE_FUNCTION void element_pair(const PairRef& r, const PieceA& piece_a, int feature_a,
+                                           Vec3 centre_a, double reach_a, double equivalent_a,
+                                           const PlacedElement& element_b, int feature_b,
+                                           const Previous& previous, Vec3 midpoint, Gathered<K>& g,
+                                           NarrowPhaseTally& tally) const {
+    const double reach = reach_a + element_b.bounding_radius;
+    const double distance = norm(element_b.body.centre - centre_a);
+    if (!(distance < reach)) {
+      g.gap = math::min(g.gap, distance - reach);
+      return;
+    }
+    using clump_contact::reversed;
+    const FeaturePair key =
+        r.flipped ? FeaturePair{feature_b, feature_a} : FeaturePair{feature_a, feature_b};
+    const MidwayState stored = previous.matching(key, midpoint);
+    const NarrowPhaseResult result =
+        piece_contact(piece_a, element_b, r.flipped ? reversed(stored) : stored, controls);
+    if (iterative_pair(piece_a, element_b))
+      tally.add(result);
+    if (!result.geometry.touching) {
+      g.gap = math::min(g.gap, result.separation);
+      return;
+    }
+    g.gap = 0;
+    if (g.found.count == K) {
+      ++tally.failures; // more contacts than a pair keeps: counted as missed
+      return;
+    }
+    const int c = g.found.count++;
+    PairContact& contact = g.found.contact[c];
+    contact.geometry = result.geometry;
+    contact.effective_radius =
+        curvature_radius(result.curvature_i, result.curvature_j,
+                         series_radius(equivalent_a, element_b.equivalent_radius), limit);
+    contact.feature_a = feature_a;
+    contact.feature_b = feature_b;
+    g.state[c] = r.flipped ? reversed(result.state) : result.state;
+    g.size[c] = math::min(equivalent_a, element_b.equivalent_radius);
+  }
+
+  // Weights the seam duplicates, keeps the contacts' warm starts in their slots and the gap as
+  // the pair's certificate.
+  template <int K>
+  KOKKOS_INLINE_FUNCTION PairOutcome finish(const PairRef& r, Gathered<K>& g, Vec3 midpoint) const {
+    PairContacts<K>& found = g.found;
+    seam_weights(
+        found.count, [&](int c) -> const ContactGeometry& { return found.contact[c].geometry; },
+        [&](int c) { return g.size[c]; }, seam,
+        [&](int c, double w) { found.contact[c].weight = w; });
+    const int first = slots.first(r.k), capacity = slots.end(r.k) - first;
+    for (int c = 0; c < found.count && c < capacity; ++c) {
+      store3(point, first + c, g.state[c].point - midpoint);
+      multiplier(first + c) = g.state[c].multiplier;
+    }
+    certificates.issue(r.k, r.i, r.j, found.count > 0 ? 0.0 : g.gap);
+    return found.count > 0 ? PairOutcome::touching : PairOutcome::apart;
+  }
+};
+
+// Body a (family A: a convex body or a clump) against the clump b.
+template <class A> struct ClumpNarrowPhaseOf : ClumpPairState, EveryRowOfTheType {
+  static constexpr bool tallied = true;
+  static constexpr int max_contacts = pair_contact_points<A, ClumpFamily>;
+
+  explicit ClumpNarrowPhaseOf(const ContactContext& c) : ClumpPairState(c) {}
+
+  KOKKOS_INLINE_FUNCTION PairOutcome operator()(const PairRef& r, PairContacts<max_contacts>& found,
+                                                NarrowPhaseTally& tally) const {
+    PairOutcome outcome;
+    const bool a_turns = A::surface_turns;
+    if (screened(r, r.flipped || a_turns, !r.flipped || a_turns, outcome))
+      return outcome;
+    const Vec3 midpoint = centres_midpoint(r.i, r.j);
+    const Previous previous = previous_of(r.k);
+    Gathered<max_contacts> g(found);
+    const Mat3 rotation_b = rotation_matrix(load_quat(p.orientation, r.b));
+    const int elements_b = ClumpFamily::element_count(clumps, shapes, p, r.b);
+    if constexpr (std::is_same_v<A, ClumpFamily>) {
+      const Mat3 rotation_a = rotation_matrix(load_quat(p.orientation, r.a));
+      const int elements_a = ClumpFamily::element_count(clumps, shapes, p, r.a);
+      for (int e = 0; e < elements_a; ++e) {
+        const PlacedElement element_a = ClumpFamily::element(clumps, shapes, p, r.a, rotation_a, e);
+        for (int f = 0; f < elements_b; ++f)
+          element_pair(r, element_a, e, element_a.body.centre, element_a.bounding_radius,
+                       element_a.equivalent_radius,
+                       ClumpFamily::element(clumps, shapes, p, r.b, rotation_b, f), f, previous,
+                       midpoint, g, tally);
+      }
+    } else {
+      const auto body_a = whole_body<A>(r.a);
+      const Vec3 centre_a = load3(p.position, r.a);
+      const double equivalent_a = whole_equivalent_radius<A>(r.a);
+      for (int f = 0; f < elements_b; ++f)
+        element_pair(r, body_a, 0, centre_a, p.radius(r.a), equivalent_a,
+                     ClumpFamily::element(clumps, shapes, p, r.b, rotation_b, f), f, previous,
+                     midpoint, g, tally);
+    }
+    return finish(r, g, midpoint);
+  }
+};
+
+template <> struct NarrowPhase<SphereFamily, ClumpFamily> : ClumpNarrowPhaseOf<SphereFamily> {
+  static constexpr const char* label = "kdem::sphere_clump_forces";
+  using ClumpNarrowPhaseOf::ClumpNarrowPhaseOf;
+};
+template <>
+struct NarrowPhase<SuperquadricFamily, ClumpFamily> : ClumpNarrowPhaseOf<SuperquadricFamily> {
+  static constexpr const char* label = "kdem::superquadric_clump_forces";
+  using ClumpNarrowPhaseOf::ClumpNarrowPhaseOf;
+};
+template <>
+struct NarrowPhase<PolySuperquadricFamily, ClumpFamily>
+    : ClumpNarrowPhaseOf<PolySuperquadricFamily> {
+  static constexpr const char* label = "kdem::poly_superquadric_clump_forces";
+  using ClumpNarrowPhaseOf::ClumpNarrowPhaseOf;
+};
+template <> struct NarrowPhase<ClumpFamily, ClumpFamily> : ClumpNarrowPhaseOf<ClumpFamily> {
+  static constexpr const char* label = "kdem::clump_forces";
+  using ClumpNarrowPhaseOf::ClumpNarrowPhaseOf;
+};
+
+} // namespace kdem
