@@ -119,10 +119,14 @@ int Engine::shape_id(const std::string& shape_name) const {
 
 // With one family present (or none) its kernels run over all rows, without a sort.
 void Engine::State::classify_families(const PairList& list) {
-  int single_family = 0;
+  int single_family = 0, present = 0;
   for (int f = 0; f < Families::size; ++f)
-    if (families_present & (1 << f))
-      single_family = (families_present & ~(1 << f)) == 0 ? f : -1;
+    if (families_present & (1 << f)) {
+      single_family = f;
+      ++present;
+    }
+  if (present > 1)
+    single_family = -1;
   family_rows = sort_into_families<Families>(particles, list, shape_families, single_family);
 }
 
