@@ -32,7 +32,7 @@ DEFAULT_SIZES = {"sphere": [1e3, 1e4, 1e5, 1e6], "ellipsoid": [1e3, 1e4, 1e5],
 # Work per timed run (particle-steps): spheres run ~8e6 per second and thread, superquadrics
 # ~6e5, so that each timed run lasts a few seconds.
 WORK = {"sphere": 2e7, "ellipsoid": 2e6, "cylinder": 2e6, "cube": 2e6, "poly_ellipsoid": 2e6,
-        "poly_cube": 2e6, "pebble": 2e6}
+        "poly_cube": 2e6, "pebble": 2e6, **{f"clump_{k}": 2e6 for k in range(1, 9)}}
 CACHE_DIR = ROOT / "perf" / "cache"
 
 

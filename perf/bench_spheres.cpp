@@ -4,7 +4,8 @@
 // ellipsoids (a = b, c = 2a), cylinders (n1 = 8, n2 = 2, a = b = c) or cubes (n1 = n2 = 8).
 //
 //   kdem_bench_openmp --n N --steps M --repeat R [--warmup W] [--out FILE.json]
-//                     [--shape sphere|ellipsoid|cylinder|cube|poly_ellipsoid|poly_cube|pebble]
+//                     [--shape sphere|ellipsoid|cylinder|cube|poly_ellipsoid|poly_cube|pebble|
+//                              clump_K]
 //                     [--cache-dir DIR]
 //                     [--write-data FILE.data] [--rebuild-every-step] [--unsorted]
 //                     [--mesh-walls TRIANGLES] [--kokkos-threads=T]
@@ -50,9 +51,11 @@
 #include <vector>
 
 #include "kernels/types.hpp"
+#include "shapes/clump_properties.hpp"
 #include "shapes/poly_superquadric_properties.hpp"
 #include "shapes/superquadric_properties.hpp"
 #include "src/build_info.hpp"
+#include "src/clump_scene.hpp"
 #include "src/engine.hpp"
 #include "src/kernel_timer.hpp"
 #include "src/poly_superquadric_scene.hpp"
@@ -85,14 +88,63 @@ struct BenchParameters {
 // c = aspect x a (a = b), or a poly-superquadric with extents plus and minus (in units of a
 // common scale); "sphere" is the polydisperse sphere bed. poly_ellipsoid and poly_cube are the
 // ellipsoid and the cube as poly-superquadrics (r+ = r-): the same bodies, for the cost of the
-// poly-superquadric path; pebble is the book's (Sect. 3.3.3: r+/r- = 0.7, 0.4, 0.5).
+// poly-superquadric path; pebble is the book's (Sect. 3.3.3: r+/r- = 0.7, 0.4, 0.5). clump_K
+// (K = 1 to 8) is a clump of K equal spheres whose centres lie half a radius from the clump's
+// centre at the vertices of a compact polyhedron (a point, a segment, a triangle, a tetrahedron,
+// a triangular bipyramid, an octahedron, a pentagonal bipyramid, a cube): nearly round whatever
+// K, so that its cost measures the element count.
 struct BenchShape {
   std::string name = "sphere";
   double aspect = 1, n1 = 2, n2 = 2;
   bool poly = false;
   kdem::Vec3 plus{1, 1, 1}, minus{1, 1, 1};
+  int clump_elements = 0;
   bool is_sphere() const { return name == "sphere"; }
 };
+
+// Directions of the element centres of clump_K.
+std::vector<kdem::Vec3> clump_directions(int k) {
+  const double s3 = 1 / std::sqrt(3.0);
+  const auto ring = [](int n, double z) {
+    std::vector<kdem::Vec3> v;
+    for (int m = 0; m < n; ++m)
+      v.push_back({std::cos(2 * M_PI * m / n), std::sin(2 * M_PI * m / n), z});
+    return v;
+  };
+  std::vector<kdem::Vec3> d;
+  switch (k) {
+  case 1:
+    return {{0, 0, 0}};
+  case 2:
+    return {{1, 0, 0}, {-1, 0, 0}};
+  case 3:
+    return ring(3, 0);
+  case 4:
+    return {{s3, s3, s3}, {s3, -s3, -s3}, {-s3, s3, -s3}, {-s3, -s3, s3}};
+  case 5:
+  case 7:
+    d = ring(k - 2, 0);
+    d.push_back({0, 0, 1});
+    d.push_back({0, 0, -1});
+    return d;
+  case 6:
+    return {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  case 8:
+    for (int m = 0; m < 8; ++m)
+      d.push_back({m & 1 ? s3 : -s3, m & 2 ? s3 : -s3, m & 4 ? s3 : -s3});
+    return d;
+  default:
+    throw std::runtime_error("clump_K takes K from 1 to 8");
+  }
+}
+
+// clump_K's elements at unit element radius (before the scaling to the bed's volume).
+std::vector<kdem::ClumpElement> unit_clump(int k) {
+  std::vector<kdem::ClumpElement> elements;
+  for (const kdem::Vec3 d : clump_directions(k))
+    elements.push_back({kdem::make_superquadric(1, 1, 1, 2, 2), 0.5 * d, kdem::Quat{1, 0, 0, 0}});
+  return elements;
+}
 
 BenchShape bench_shape(const std::string& name) {
   if (name == "sphere")
@@ -109,8 +161,13 @@ BenchShape bench_shape(const std::string& name) {
     return {name, 1, 8, 8, true, {1, 1, 1}, {1, 1, 1}};
   if (name == "pebble")
     return {name, 1, 2, 2, true, {0.7, 0.4, 0.5}, {1, 1, 1}};
+  if (name.size() == 7 && name.compare(0, 6, "clump_") == 0 && name[6] >= '1' && name[6] <= '8') {
+    BenchShape clump{name};
+    clump.clump_elements = name[6] - '0';
+    return clump;
+  }
   throw std::runtime_error("--shape must be sphere, ellipsoid, cylinder, cube, poly_ellipsoid, "
-                           "poly_cube or pebble, not '" +
+                           "poly_cube, pebble or clump_K (K = 1 to 8), not '" +
                            name + "'");
 }
 
@@ -120,6 +177,9 @@ kdem::PolySuperquadricShape poly_shape_of(const BenchShape& shape, double scale)
 
 // The scale of the shape with the volume of a sphere of radius r.
 double scale_of(const BenchShape& shape, double r) {
+  if (shape.clump_elements > 0)
+    return std::cbrt(4.0 / 3.0 * M_PI * r * r * r /
+                     kdem::clump_mass_properties(unit_clump(shape.clump_elements)).volume);
   const double unit = shape.poly
                           ? kdem::poly_superquadric_mass_properties(poly_shape_of(shape, 1)).volume
                           : kdem::superquadric_volume(
@@ -134,6 +194,17 @@ kdem::Vec3d half_axes_of(const BenchShape& shape, double r) {
 }
 
 kdem::ShapeConfig shape_config(const BenchShape& shape, double r) {
+  if (shape.clump_elements > 0) {
+    std::vector<kdem::ClumpElementParameters> elements;
+    for (const kdem::ClumpElement& e : unit_clump(shape.clump_elements)) {
+      kdem::ClumpElementParameters element;
+      element.sphere = true;
+      element.half_axes = {1e-3, 1e-3, 1e-3}; // scaled to the volume by equivalent_diameter
+      element.position = {1e-3 * e.centre.x, 1e-3 * e.centre.y, 1e-3 * e.centre.z};
+      elements.push_back(element);
+    }
+    return kdem::clump_shape_config(shape.name, elements, 2 * r);
+  }
   if (!shape.poly)
     return kdem::superquadric_shape_config(shape.name, half_axes_of(shape, r), shape.n1, shape.n2);
   const double scale = scale_of(shape, r);
@@ -143,6 +214,11 @@ kdem::ShapeConfig shape_config(const BenchShape& shape, double r) {
 }
 
 double bounding_radius_of(const BenchShape& shape, double r) {
+  if (shape.clump_elements > 0) {
+    const std::vector<kdem::ClumpElement> unit = unit_clump(shape.clump_elements);
+    return scale_of(shape, r) *
+           kdem::clump_bounding_radius(unit, kdem::clump_mass_properties(unit).centroid);
+  }
   if (!shape.poly) {
     const kdem::Vec3d axes = half_axes_of(shape, r);
     return kdem::superquadric_bounding_radius(
@@ -155,6 +231,8 @@ double bounding_radius_of(const BenchShape& shape, double r) {
 
 // The smallest semi-axis (superquadric) or extent (poly-superquadric).
 double smallest_length_of(const BenchShape& shape, double r) {
+  if (shape.clump_elements > 0)
+    return scale_of(shape, r); // the element radius
   if (shape.poly)
     return kdem::smallest_extent(poly_shape_of(shape, scale_of(shape, r)));
   const kdem::Vec3d axes = half_axes_of(shape, r);
@@ -193,7 +271,8 @@ struct Bed {
 const char* usage =
     "usage: kdem_bench_<backend> --n N --steps M --repeat R [--warmup W] [--out FILE.json]\n"
     "                            [--shape "
-    "sphere|ellipsoid|cylinder|cube|poly_ellipsoid|poly_cube|pebble] [--cache-dir DIR]\n"
+    "sphere|ellipsoid|cylinder|cube|poly_ellipsoid|poly_cube|pebble|clump_K]\n"
+    "                            [--cache-dir DIR]\n"
     "                            [--write-data FILE.data] [--rebuild-every-step] [--unsorted]\n"
     "                            [--mesh-walls TRIANGLES] [--ellipsoid-general-newton]\n"
     "                            [--no-box-certificates]\n"

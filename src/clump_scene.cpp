@@ -51,7 +51,7 @@ ClumpElementParameters read_element(const Value& value) {
     element.half_axes = positive_axes(sq.get("half_axes"));
     read_blockiness(sq.get("blockiness"), element.n1, element.n2);
   }
-  element.position = vector3(map.get("position"), "the element's centre [x, y, z] in metres");
+  element.position = vector3(map.get("position"), "in metres (the element's centre)");
   if (auto orientation = map.find("orientation")) {
     if (element.sphere)
       orientation->expected("no orientation for a sphere element");

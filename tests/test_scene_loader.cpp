@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "src/clump_scene.hpp"
 #include "src/poly_superquadric_scene.hpp"
 #include "src/scene_loader.hpp"
 #include "src/superquadric_scene.hpp"
@@ -504,6 +505,7 @@ TEST(SceneKeyErrors, UnknownTopLevelKeyListsTheAllowedKeysAndSuggestsOne) {
       minimal_scene_plus("durration: 1\n"), 14, "durration",
       "expected one of the keys time_step, duration, gravity, skin, sort_by_cell, domain, "
       "materials, interactions, shapes, superquadric_contact, poly_superquadric_contact, "
+      "clump_contact, "
       "particles, walls, outlets, output, checks, got the key "
       "\"durration\" (did you mean \"duration\"?)"));
 }
@@ -937,14 +939,14 @@ TEST(SceneShapes, SpheresHaveNoShape) {
 
 TEST(SceneShapes, AShapeNamesExactlyOneFamily) {
   const std::string none = "shapes:\n  - name: cube\n    tag: x\n";
-  EXPECT_TRUE(
-      fails_with(minimal_scene_plus(none), 16, "shapes[0].tag",
-                 "expected one of the keys name, superquadric, poly_superquadric, got the key "
-                 "\"tag\""));
+  EXPECT_TRUE(fails_with(
+      minimal_scene_plus(none), 16, "shapes[0].tag",
+      "expected one of the keys name, superquadric, poly_superquadric, clump, got the key "
+      "\"tag\""));
   std::string missing = "shapes:\n  - name: cube\n";
-  EXPECT_TRUE(
-      fails_with(minimal_scene_plus(missing), 15, "shapes[0]",
-                 "expected exactly one of the keys superquadric, poly_superquadric, got none"));
+  EXPECT_TRUE(fails_with(
+      minimal_scene_plus(missing), 15, "shapes[0]",
+      "expected exactly one of the keys superquadric, poly_superquadric, clump, got none"));
 }
 
 TEST(SceneShapes, UnknownShapeNamesTheDefinedOnes) {
@@ -1059,6 +1061,89 @@ TEST(ScenePolySuperquadrics, SettingsRefuseTheSuperquadricsOwnKeys) {
   // Lanes and start extrapolation belong to the superquadric narrow phase alone.
   EXPECT_TRUE(fails_with(minimal_scene_plus("poly_superquadric_contact: {lanes: false}\n"), 14,
                          "poly_superquadric_contact.lanes", "got the key \"lanes\""));
+}
+
+// ---- clump shapes ------------------------------------------------------------------------------
+
+const std::string rod_shape = "shapes:\n"         // 14
+                              "  - name: rod\n"   // 15
+                              "    clump:\n"      // 16
+                              "      elements:\n" // 17
+                              "        - superquadric: {half_axes: [0.006, 0.006, 0.006], "
+                              "blockiness: [10, 2]}\n"                // 18
+                              "          position: [0, 0, 0]\n"       // 19
+                              "          orientation: [2, 0, 0, 0]\n" // 20
+                              "        - sphere: {radius: 0.006}\n"   // 21
+                              "          position: [0, 0, 0.006]\n"   // 22
+                              "      equivalent_diameter: 0.005\n";   // 23
+
+TEST(SceneClumps, ShapeAndSettingsAreRead) {
+  const SceneConfig scene =
+      load_text(minimal_scene_with(11, "    shape: rod") + rod_shape +
+                "clump_contact: {tolerance: 1.0e-9, seam: summed, seam_distance: 0.25, "
+                "seam_angle: 20}\n");
+  ASSERT_EQ(scene.shapes.size(), 1u);
+  EXPECT_EQ(scene.shapes[0].family, "clump");
+  const kdem::ClumpShapeParameters& clump = kdem::clump_parameters(scene.shapes[0]);
+  ASSERT_EQ(clump.elements.size(), 2u);
+  EXPECT_FALSE(clump.elements[0].sphere);
+  EXPECT_EQ(clump.elements[0].n1, 10);
+  EXPECT_EQ(clump.elements[0].orientation, (std::array<double, 4>{1, 0, 0, 0})); // normalised
+  EXPECT_TRUE(clump.elements[1].sphere);
+  EXPECT_EQ(clump.elements[1].half_axes, (kdem::Vec3d{0.006, 0.006, 0.006}));
+  EXPECT_EQ(clump.elements[1].position, (kdem::Vec3d{0, 0, 0.006}));
+  EXPECT_EQ(clump.equivalent_diameter, 0.005);
+  EXPECT_EQ(clump.union_precision, 1e-4);
+  const auto& settings =
+      dynamic_cast<const kdem::ClumpContactConfig&>(*scene.family_settings.at("clump"));
+  EXPECT_EQ(settings.tolerance, 1e-9);
+  EXPECT_FALSE(settings.seam_weighted);
+  EXPECT_EQ(settings.seam_distance, 0.25);
+  EXPECT_EQ(settings.seam_angle, 20);
+}
+
+TEST(SceneClumps, ElementErrorsNameTheElement) {
+  std::string text = rod_shape;
+  text.replace(text.find("sphere: {radius: 0.006}"), 23, "sphere: {radius: 0}");
+  EXPECT_TRUE(fails_with(minimal_scene_plus(text), 21, "shapes[0].clump.elements[1].sphere.radius",
+                         "expected a positive number in m, got \"0\""));
+  text = rod_shape;
+  text.replace(text.find("          position: [0, 0, 0.006]\n"), 34,
+               "          position: [0, 0, 0.006]\n          orientation: [1, 0, 0, 0]\n");
+  EXPECT_TRUE(fails_with(minimal_scene_plus(text), 23, "shapes[0].clump.elements[1].orientation",
+                         "expected no orientation for a sphere element"));
+  text = rod_shape;
+  text.replace(text.find("[2, 0, 0, 0]"), 12, "[0, 0, 0, 0]");
+  EXPECT_TRUE(fails_with(minimal_scene_plus(text), 20, "shapes[0].clump.elements[0].orientation",
+                         "expected a quaternion [w, x, y, z] of non-zero length"));
+  text = rod_shape;
+  text.replace(text.find("        - sphere: {radius: 0.006}"), 33,
+               "        - sphere: {radius: 0.006}\n          superquadric: {half_axes: [1, 1, 1], "
+               "blockiness: [2, 2]}");
+  EXPECT_TRUE(fails_with(minimal_scene_plus(text), 22, "shapes[0].clump.elements[1]",
+                         "expected exactly one of the keys sphere, superquadric, got sphere and "
+                         "superquadric"));
+}
+
+TEST(SceneClumps, ElementListMustHoldOneToSixteen) {
+  const std::string empty = "shapes:\n  - name: rod\n    clump: {elements: []}\n";
+  EXPECT_TRUE(fails_with(minimal_scene_plus(empty), 16, "shapes[0].clump.elements",
+                         "expected a sequence of 1 to 16 elements"));
+  std::string many = "shapes:\n  - name: rod\n    clump:\n      elements:\n";
+  for (int k = 0; k < 17; ++k)
+    many += "        - {sphere: {radius: 0.001}, position: [" + std::to_string(0.001 * k) +
+            ", 0, 0]}\n";
+  EXPECT_TRUE(fails_with(minimal_scene_plus(many), 18, "shapes[0].clump.elements",
+                         "expected a sequence of 1 to 16 elements"));
+}
+
+TEST(SceneClumps, SeamSettingsAreChecked) {
+  EXPECT_TRUE(fails_with(minimal_scene_plus("clump_contact: {seam: doubled}\n"), 14,
+                         "clump_contact.seam", "doubled"));
+  EXPECT_TRUE(fails_with(minimal_scene_plus("clump_contact: {seam_angle: 90}\n"), 14,
+                         "clump_contact.seam_angle", "expected an angle in degrees in (0, 90)"));
+  EXPECT_TRUE(fails_with(minimal_scene_plus("clump_contact: {lanes: false}\n"), 14,
+                         "clump_contact.lanes", "got the key \"lanes\""));
 }
 
 // A true/false key of superquadric_contact: on by default, off when set false, and anything

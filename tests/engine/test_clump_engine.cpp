@@ -150,6 +150,24 @@ TEST(ClumpEngine, AClumpOfOneSuperquadricMovesAsTheSuperquadric) {
   EXPECT_EQ(clumps.narrow_phase_totals().failures, 0);
 }
 
+TEST(ClumpEngine, ADisconnectedClumpIsRefusedNamingTheFileAndShape) {
+  // Two spheres that only touch form no body (their union's mass properties would be those of
+  // two particles held together by nothing).
+  SceneConfig scene = empty_scene(1e-6, {material("m", 2500, 1e9, 0.3, 0.5, 0.3)});
+  scene.shapes.push_back(clump_shape_config(
+      "pair", {sphere_element(1e-3, {-1e-3, 0, 0}), sphere_element(1e-3, {1e-3, 0, 0})}));
+  try {
+    Engine engine(scene);
+    ADD_FAILURE() << "a clump of two touching spheres was accepted";
+  } catch (const std::runtime_error& refused) {
+    EXPECT_NE(std::string(refused.what())
+                  .find("test: shape 'pair' (clump): its elements do not "
+                        "form one connected body"),
+              std::string::npos)
+        << refused.what();
+  }
+}
+
 class SpherocylinderDrop : public ::testing::TestWithParam<double> {};
 
 // Elastic, frictionless, at tilt theta0 of the axis from the wall normal (0: end-on). Only the
