@@ -17,11 +17,23 @@ struct PairContact {
   double weight = 1;
 };
 
-// Up to K contact points of one pair, in the narrow phase's order.
+// Up to K contact points of one pair, in the narrow phase's order. Only the first `count` are
+// set: the list is made for every pair at every step, and setting all K (up to 16 x 88 bytes)
+// cost a clump bed more than its contacts did (docs/performance.md, section 26). A narrow phase
+// appends with add(), which sets the new entry whole; one with a single contact point may write
+// contact[0]'s geometry and radius alone (the only fields a pair of one slot reads).
 template <int K> struct PairContacts {
   static_assert(K >= 1 && K <= 16, "a pair keeps a short list of contact points");
   int count = 0;
-  PairContact contact[K];
+  union {
+    PairContact contact[K];
+  };
+
+  KOKKOS_INLINE_FUNCTION PairContacts() {}
+  KOKKOS_INLINE_FUNCTION PairContact& add() {
+    contact[count] = PairContact{};
+    return contact[count++];
+  }
 };
 
 // A contact's (or a pair's) torques on i and on j, each about its own centre.

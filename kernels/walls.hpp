@@ -634,10 +634,19 @@ struct WallContactGeometry {
   double weight = 1; // scales its force (see PairContact)
 };
 
-// Up to K contacts of one particle with one wall element.
+// Up to K contacts of one particle with one wall element; only the first `count` are set (see
+// PairContacts), a functor of several appends with add().
 template <int K> struct WallContacts {
   int count = 0;
-  WallContactGeometry contact[K];
+  union {
+    WallContactGeometry contact[K];
+  };
+
+  KOKKOS_INLINE_FUNCTION WallContacts() {}
+  KOKKOS_INLINE_FUNCTION WallContactGeometry& add() {
+    contact[count] = WallContactGeometry{};
+    return contact[count++];
+  }
 };
 
 // The contact law of particle i at a contact with a wall at `wall`; advances `history` and gives

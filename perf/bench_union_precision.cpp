@@ -2,9 +2,11 @@
 // precision asked for, and the error it reaches. For each requested precision from 1e-2 to 1e-6:
 // the wall time (median of --repeat runs), the grid levels evaluated, the estimated precision,
 // and the true errors where a reference exists: two unit spheres 1.2 apart against the lens
-// closed form (volume), and the book's spherocylinder and a clump of eight non-integer-exponent
-// superquadrics against the result at 1e-7 (self-convergence; volume and the largest inertia
-// entry relative to the trace).
+// closed form (volume: `volume_error`), and for the book's spherocylinder and a clump of eight
+// non-integer-exponent superquadrics the change from the result at 1e-7
+// (`volume_change_from_finest`; the refinement stops at its cost cap before that precision, so
+// the finest result is the capped one, whose own error the tests measure); for all three the
+// largest inertia entry's change from the finest result relative to its trace.
 //
 //   kdem_bench_union_precision [--repeat R] [--out FILE.json]
 //
@@ -92,7 +94,8 @@ int main(int argc, char** argv) {
     const Clump& clump = all[c];
     const ClumpMassProperties reference = clump_mass_properties(clump.elements, 1e-7);
     json += "    {\"name\": \"" + clump.name +
-            "\", \"reference_precision\": " + std::to_string(reference.relative_precision) +
+            "\", \"finest_estimated_precision\": " + std::to_string(reference.relative_precision) +
+            ", \"finest_grid_levels\": " + std::to_string(reference.grid_levels) +
             ", \"runs\": [\n";
     for (std::size_t r = 0; r < requested.size(); ++r) {
       std::vector<double> seconds;
@@ -109,11 +112,13 @@ int main(int argc, char** argv) {
       char row[512];
       std::snprintf(row, sizeof row,
                     "      {\"requested\": %.1e, \"seconds\": %.4g, \"grid_levels\": %d, "
-                    "\"estimated_precision\": %.3e, \"volume_error\": %.3e, "
-                    "\"inertia_error\": %.3e}%s\n",
+                    "\"estimated_precision\": %.3e, \"%s\": %.3e, "
+                    "\"inertia_change_from_finest\": %.3e}%s\n",
                     requested[r], seconds[seconds.size() / 2], props.grid_levels,
-                    props.relative_precision, props.volume / volume_reference - 1,
-                    inertia_error(props, reference), r + 1 < requested.size() ? "," : "");
+                    props.relative_precision,
+                    clump.exact_volume > 0 ? "volume_error" : "volume_change_from_finest",
+                    props.volume / volume_reference - 1, inertia_error(props, reference),
+                    r + 1 < requested.size() ? "," : "");
       json += row;
       std::printf("%-22s %.0e  %8.4f s  levels %2d  estimate %.2e  volume %+.2e\n",
                   clump.name.c_str(), requested[r], seconds[seconds.size() / 2], props.grid_levels,

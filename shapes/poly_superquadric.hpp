@@ -75,6 +75,13 @@ KOKKOS_INLINE_FUNCTION Vec3 poly_superquadric_support_point(const PolySuperquadr
   return superquadric_support_point(octant_shape(s, octant_of(direction)), direction);
 }
 
+// The smallest half-width (r+ + r-) / 2 over the axes: the body's own size, which a thin side
+// (the book's hemisphere cap) does not shrink.
+KOKKOS_INLINE_FUNCTION double smallest_half_width(const PolySuperquadricShape& s) {
+  return 0.5 *
+         math::min(math::min(s.plus.x + s.minus.x, s.plus.y + s.minus.y), s.plus.z + s.minus.z);
+}
+
 KOKKOS_INLINE_FUNCTION double smallest_extent(const PolySuperquadricShape& s) {
   return math::min(math::min(math::min(s.plus.x, s.plus.y), math::min(s.plus.z, s.minus.x)),
                    math::min(s.minus.y, s.minus.z));

@@ -34,6 +34,11 @@ struct NarrowPhaseControls {
   // Two ellipsoids: the midway point from the scalar root of ellipsoid_midway.hpp, checked by
   // the general convergence test (and refined by the general Newton where it fails).
   bool ellipsoid_scalar_root = true;
+  // m, the solves' unit of length (Newton's largest step is half of it, and the gap tolerance is
+  // in its units); 0: the pair's smallest semi-axis. The pieces of a body (a poly-superquadric's
+  // octants) are solved in the whole body's unit: a piece much thinner than the body would
+  // otherwise crawl towards a contact a body size away in steps of its own thickness.
+  double length = 0;
 };
 
 struct NarrowPhaseResult {
@@ -542,7 +547,9 @@ KDEM_WHOLE_FUNCTION NarrowPhaseResult
 superquadric_pair_contact(const PosedSuperquadric& i, const PosedSuperquadric& j,
                           const MidwayState& previous, const NarrowPhaseControls& controls) {
   using namespace narrow_phase;
-  const MidwayProblem problem = make_midway_problem(i, j, controls.tolerance);
+  MidwayProblem problem = make_midway_problem(i, j, controls.tolerance);
+  if (controls.length > 0)
+    problem.length = controls.length;
   // The midway point minimises the strictly convex max(F_i, F_j), so every start that converges
   // finds the same point: a warm start is solved alone, and the sphere start is tried only
   // without one or when Newton from it fails.
@@ -587,7 +594,8 @@ KDEM_WHOLE_FUNCTION NarrowPhaseResult
 sphere_superquadric_contact(Vec3 sphere_centre, double sphere_radius, const PosedSuperquadric& j,
                             const MidwayState& previous, const NarrowPhaseControls& controls) {
   using namespace narrow_phase;
-  const double length = math::min(smallest_semi_axis(j.shape), sphere_radius);
+  const double length =
+      controls.length > 0 ? controls.length : math::min(smallest_semi_axis(j.shape), sphere_radius);
   const ClosestPointProblem problem{j, sphere_centre, length, controls.tolerance};
   Unknowns u = closest_point_start(problem, radial_projection(j, sphere_centre));
   ClosestPointProblem::Evaluation e = problem.evaluate(u);

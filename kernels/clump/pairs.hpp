@@ -47,35 +47,25 @@ struct ClumpPairState : ImplicitPairState {
       return A::equivalent_radius(polys, shapes, p, a);
   }
 
-  // The contact slots of the pair at the last step: element keys (of i, of j) and warm starts.
-  struct Previous {
-    int kept = 0;
-    FeaturePair key[clump_max_elements];
-    MidwayState state[clump_max_elements]; // point relative to the centres' midpoint
-
-    KOKKOS_INLINE_FUNCTION MidwayState matching(const FeaturePair& wanted, Vec3 midpoint) const {
-      for (int m = 0; m < kept; ++m)
-        if (key[m] == wanted)
-          return MidwayState{state[m].point + midpoint, state[m].multiplier};
-      return MidwayState{};
-    }
-  };
-  KOKKOS_INLINE_FUNCTION Previous previous_of(int k) const {
-    Previous previous;
-    const int first = slots.first(k), end = slots.end(k);
-    for (int s = first; s < end && previous.kept < clump_max_elements; ++s, ++previous.kept) {
-      previous.key[previous.kept] = FeaturePair{feature_i(s), feature_j(s)};
-      previous.state[previous.kept] = MidwayState{load3(point, s), multiplier(s)};
-    }
-    return previous;
+  // The warm start the pair's slots kept for the element pair `key` (of i, of j) at the last
+  // step; none where no slot holds it. Read from the slots themselves: the narrow phase writes
+  // them only when it has found every contact (finish).
+  KOKKOS_INLINE_FUNCTION MidwayState kept_start(int k, const FeaturePair& key,
+                                                Vec3 midpoint) const {
+    for (int s = slots.first(k); s < slots.end(k); ++s)
+      if (feature_i(s) == key.on_i && feature_j(s) == key.on_j)
+        return MidwayState{load3(point, s) + midpoint, multiplier(s)};
+    return MidwayState{};
   }
 
-  // What one pair's element loop gathers.
+  // What one pair's element loop gathers (plain arrays, set only as far as they are used: see
+  // PairContacts).
   template <int K> struct Gathered {
     PairContacts<K>& found;
-    MidwayState state[K]; // warm starts of the contacts, order (i, j), absolute points
-    double size[K];       // the smaller equivalent radius of each contact's two pieces
-    double gap = 1e300;   // smallest gap bound over the element pairs that do not touch
+    double start_point[K][3]; // warm starts of the contacts, order (i, j), absolute points
+    double start_multiplier[K];
+    double size[K];     // the smaller equivalent radius of each contact's two pieces
+    double gap = 1e300; // smallest gap bound over the element pairs that do not touch
 
     KOKKOS_INLINE_FUNCTION explicit Gathered(PairContacts<K>& f) : found(f) {}
   };
@@ -83,11 +73,10 @@ struct ClumpPairState : ImplicitPairState {
   // One piece of body a (feature_a; centre and reach of its bounding sphere) against element
   // feature_b of the clump b.
   template <int K, class PieceA>
-  KOKKOS_INLINE_FUNCTION void element_pair(const PairRef& r, const PieceA& piece_a, int feature_a,
-                                           Vec3 centre_a, double reach_a, double equivalent_a,
-                                           const PlacedElement& element_b, int feature_b,
-                                           const Previous& previous, Vec3 midpoint, Gathered<K>& g,
-                                           NarrowPhaseTally& tally) const {
+  KOKKOS_INLINE_FUNCTION void
+  element_pair(const PairRef& r, const PieceA& piece_a, int feature_a, Vec3 centre_a,
+               double reach_a, double equivalent_a, const PlacedElement& element_b, int feature_b,
+               Vec3 midpoint, Gathered<K>& g, NarrowPhaseTally& tally) const {
     const double reach = reach_a + element_b.bounding_radius;
     const double distance = norm(element_b.body.centre - centre_a);
     if (!(distance < reach)) {
@@ -97,7 +86,7 @@ struct ClumpPairState : ImplicitPairState {
     using clump_contact::reversed;
     const FeaturePair key =
         r.flipped ? FeaturePair{feature_b, feature_a} : FeaturePair{feature_a, feature_b};
-    const MidwayState stored = previous.matching(key, midpoint);
+    const MidwayState stored = kept_start(r.k, key, midpoint);
     const NarrowPhaseResult result =
         piece_contact(piece_a, element_b, r.flipped ? reversed(stored) : stored, controls);
     if (iterative_pair(piece_a, element_b))
@@ -111,15 +100,18 @@ struct ClumpPairState : ImplicitPairState {
       ++tally.failures; // more contacts than a pair keeps: counted as missed
       return;
     }
-    const int c = g.found.count++;
-    PairContact& contact = g.found.contact[c];
+    const int c = g.found.count;
+    PairContact& contact = g.found.add();
     contact.geometry = result.geometry;
     contact.effective_radius =
         curvature_radius(result.curvature_i, result.curvature_j,
                          series_radius(equivalent_a, element_b.equivalent_radius), limit);
     contact.feature_a = feature_a;
     contact.feature_b = feature_b;
-    g.state[c] = r.flipped ? reversed(result.state) : result.state;
+    const MidwayState kept = r.flipped ? reversed(result.state) : result.state;
+    for (int d = 0; d < 3; ++d)
+      g.start_point[c][d] = kept.point[d];
+    g.start_multiplier[c] = kept.multiplier;
     g.size[c] = math::min(equivalent_a, element_b.equivalent_radius);
   }
 
@@ -134,8 +126,9 @@ struct ClumpPairState : ImplicitPairState {
         [&](int c, double w) { found.contact[c].weight = w; });
     const int first = slots.first(r.k), capacity = slots.end(r.k) - first;
     for (int c = 0; c < found.count && c < capacity; ++c) {
-      store3(point, first + c, g.state[c].point - midpoint);
-      multiplier(first + c) = g.state[c].multiplier;
+      const Vec3 start{g.start_point[c][0], g.start_point[c][1], g.start_point[c][2]};
+      store3(point, first + c, start - midpoint);
+      multiplier(first + c) = g.start_multiplier[c];
     }
     certificates.issue(r.k, r.i, r.j, found.count > 0 ? 0.0 : g.gap);
     return found.count > 0 ? PairOutcome::touching : PairOutcome::apart;
@@ -156,7 +149,6 @@ template <class A> struct ClumpNarrowPhaseOf : ClumpPairState, EveryRowOfTheType
     if (screened(r, r.flipped || a_turns, !r.flipped || a_turns, outcome))
       return outcome;
     const Vec3 midpoint = centres_midpoint(r.i, r.j);
-    const Previous previous = previous_of(r.k);
     Gathered<max_contacts> g(found);
     const Mat3 rotation_b = rotation_matrix(load_quat(p.orientation, r.b));
     const int elements_b = ClumpFamily::element_count(clumps, shapes, p, r.b);
@@ -168,8 +160,8 @@ template <class A> struct ClumpNarrowPhaseOf : ClumpPairState, EveryRowOfTheType
         for (int f = 0; f < elements_b; ++f)
           element_pair(r, element_a, e, element_a.body.centre, element_a.bounding_radius,
                        element_a.equivalent_radius,
-                       ClumpFamily::element(clumps, shapes, p, r.b, rotation_b, f), f, previous,
-                       midpoint, g, tally);
+                       ClumpFamily::element(clumps, shapes, p, r.b, rotation_b, f), f, midpoint, g,
+                       tally);
       }
     } else {
       const auto body_a = whole_body<A>(r.a);
@@ -177,8 +169,8 @@ template <class A> struct ClumpNarrowPhaseOf : ClumpPairState, EveryRowOfTheType
       const double equivalent_a = whole_equivalent_radius<A>(r.a);
       for (int f = 0; f < elements_b; ++f)
         element_pair(r, body_a, 0, centre_a, p.radius(r.a), equivalent_a,
-                     ClumpFamily::element(clumps, shapes, p, r.b, rotation_b, f), f, previous,
-                     midpoint, g, tally);
+                     ClumpFamily::element(clumps, shapes, p, r.b, rotation_b, f), f, midpoint, g,
+                     tally);
     }
     return finish(r, g, midpoint);
   }

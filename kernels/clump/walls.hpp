@@ -36,7 +36,7 @@ struct ClumpWallContact {
         continue;
       contact.feature = m;
       size[found.count] = element.equivalent_radius;
-      found.contact[found.count++] = contact;
+      found.add() = contact;
     }
     seam_weights(
         found.count, [&](int c) -> const ContactGeometry& { return found.contact[c].geometry; },

@@ -47,7 +47,7 @@ template <> struct NarrowPhase<DumbbellFamily, DumbbellFamily> : EveryRowOfTheTy
                                                 lobe_centre(p, r.b, lobe_b), lobe_radius);
         if (!g.touching)
           continue;
-        PairContact& contact = found.contact[found.count++];
+        PairContact& contact = found.add();
         contact.geometry = g;
         contact.effective_radius = 0.5 * lobe_radius;
         contact.feature_a = lobe_a;
@@ -268,7 +268,7 @@ struct DumbbellOnPlane {
       const ContactGeometry g = sphere_on_surface(centre, lobe_radius, centre.z, Vec3{0, 0, 1});
       if (!g.touching)
         continue;
-      WallContactGeometry& contact = found.contact[found.count++];
+      WallContactGeometry& contact = found.add();
       contact.geometry = g;
       contact.effective_radius = lobe_radius;
       contact.feature = lobe;
