@@ -33,10 +33,18 @@ KOKKOS_INLINE_FUNCTION int find_in_row(const IndexView& row_start, const IdView&
 // What the first `kept` slots of a candidate held at the last step: the feature key and the
 // history of each. A contact found now takes the history of the slot that held its key (the
 // last such slot), or a fresh one.
+// Only the first `kept` entries are set (see PairContacts: setting all K for every pair and
+// every step cost more than the contacts did).
 template <int K, class Key, class History> struct PreviousSlots {
   int kept = 0;
-  Key key[K];
-  History history[K];
+  union {
+    Key key[K];
+  };
+  union {
+    History history[K];
+  };
+
+  KOKKOS_INLINE_FUNCTION PreviousSlots() {}
 
   KOKKOS_INLINE_FUNCTION History matching(const Key& wanted) const {
     History found{};

@@ -100,6 +100,14 @@ struct BenchShape {
   kdem::Vec3 plus{1, 1, 1}, minus{1, 1, 1};
   int clump_elements = 0;
   bool is_sphere() const { return name == "sphere"; }
+  // Whether the body is its own mirror image in each plane of its body axes, so that a mirrored
+  // copy of a settled tile is the same bed reflected (make_bed); otherwise copies are translated.
+  bool mirror_symmetric() const {
+    if (clump_elements > 0)
+      return clump_elements == 1 || clump_elements == 2 || clump_elements == 6 ||
+             clump_elements == 8;
+    return !poly || (plus.x == minus.x && plus.y == minus.y && plus.z == minus.z);
+  }
 };
 
 // Directions of the element centres of clump_K.
@@ -582,7 +590,7 @@ void choose_layout(long long n, int tile_count, int& kx, int& ky) {
   }
 }
 
-Bed make_bed(const BenchParameters& p, const std::vector<Sphere>& tile, long long n) {
+Bed make_bed(const BenchParameters& p, const std::vector<Sphere>& tile, long long n, bool mirror) {
   Bed bed;
   choose_layout(n, p.tile_count, bed.tiles_x, bed.tiles_y);
   const double L = p.tile_size;
@@ -590,14 +598,17 @@ Bed make_bed(const BenchParameters& p, const std::vector<Sphere>& tile, long lon
     for (int tx = 0; tx < bed.tiles_x; ++tx)
       for (const Sphere& s : tile) {
         Sphere c = s;
-        c.x = tx * L + (tx % 2 == 1 ? L - s.x : s.x);
-        c.y = ty * L + (ty % 2 == 1 ? L - s.y : s.y);
+        const bool mirror_x = mirror && tx % 2 == 1, mirror_y = mirror && ty % 2 == 1;
+        c.x = tx * L + (mirror_x ? L - s.x : s.x);
+        c.y = ty * L + (mirror_y ? L - s.y : s.y);
         // Mirroring x turns a body symmetric about its own axes by M R M: q -> (w, x, -y, -z).
-        if (tx % 2 == 1) {
+        // A body that is not (a clump of three spheres, a pebble) is translated instead: its
+        // copies meet as each met the tile's flat side walls, with small gaps the warm-up closes.
+        if (mirror_x) {
           c.q[2] = -c.q[2];
           c.q[3] = -c.q[3];
         }
-        if (ty % 2 == 1) {
+        if (mirror_y) {
           c.q[1] = -c.q[1];
           c.q[3] = -c.q[3];
         }
@@ -663,7 +674,7 @@ std::string json_number(double x) {
 int run(const Options& o) {
   const BenchParameters p;
   const std::vector<Sphere> tile = load_or_settle_tile(p, o.shape, o.cache_dir);
-  const Bed bed = make_bed(p, tile, o.n);
+  const Bed bed = make_bed(p, tile, o.n, o.shape.mirror_symmetric());
   if (!o.write_data.empty()) {
     write_liggghts_data(o.write_data, bed, p);
     std::fprintf(stderr, "[bench] wrote %s\n", o.write_data.c_str());
@@ -749,10 +760,11 @@ int run(const Options& o) {
        << ", \"largest_overlap_ratio\": " << json_number(after.largest_overlap_ratio)
        << ", \"kinetic_energy_j\": "
        << json_number(after.translational_energy + after.rotational_energy)
-       << ", \"bed\": {\"tiles\": [" << bed.tiles_x << ", " << bed.tiles_y << "], \"box_min\": ["
-       << json_number(bed.lo[0]) << ", " << json_number(bed.lo[1]) << ", " << json_number(bed.lo[2])
-       << "], \"box_max\": [" << json_number(bed.hi[0]) << ", " << json_number(bed.hi[1]) << ", "
-       << json_number(bed.hi[2]) << "]}"
+       << ", \"bed\": {\"tiles\": [" << bed.tiles_x << ", " << bed.tiles_y
+       << "], \"mirrored_copies\": " << (o.shape.mirror_symmetric() ? "true" : "false")
+       << ", \"box_min\": [" << json_number(bed.lo[0]) << ", " << json_number(bed.lo[1]) << ", "
+       << json_number(bed.lo[2]) << "], \"box_max\": [" << json_number(bed.hi[0]) << ", "
+       << json_number(bed.hi[1]) << ", " << json_number(bed.hi[2]) << "]}"
        << ", \"model\": {\"density\": " << json_number(p.density)
        << ", \"youngs_modulus\": " << json_number(p.youngs)
        << ", \"poisson_ratio\": " << json_number(p.poisson)
