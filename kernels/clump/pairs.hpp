@@ -47,14 +47,32 @@ struct ClumpPairState : ImplicitPairState {
       return A::equivalent_radius(polys, shapes, p, a);
   }
 
-  // The warm start the pair's slots kept for the element pair `key` (of i, of j) at the last
-  // step; none where no slot holds it. Read from the slots themselves: the narrow phase writes
-  // them only when it has found every contact (finish).
-  KOKKOS_INLINE_FUNCTION MidwayState kept_start(int k, const FeaturePair& key,
+  // The element keys (of i, of j) of the pair's slots at the last step, read once per pair (the
+  // element pairs look them up many times); plain arrays, set only as far as there are slots.
+  struct SlotKeys {
+    int first = 0, count = 0;
+    int on_i[clump_max_elements], on_j[clump_max_elements];
+  };
+  KOKKOS_INLINE_FUNCTION SlotKeys slot_keys(int k) const {
+    SlotKeys keys;
+    keys.first = slots.first(k);
+    const int end = slots.end(k);
+    for (int s = keys.first; s < end && keys.count < clump_max_elements; ++s, ++keys.count) {
+      keys.on_i[keys.count] = feature_i(s);
+      keys.on_j[keys.count] = feature_j(s);
+    }
+    return keys;
+  }
+
+  // The warm start the slot of the element pair `key` kept at the last step; none where no slot
+  // holds it. The narrow phase writes the slots only when it has found every contact (finish).
+  KOKKOS_INLINE_FUNCTION MidwayState kept_start(const SlotKeys& keys, const FeaturePair& key,
                                                 Vec3 midpoint) const {
-    for (int s = slots.first(k); s < slots.end(k); ++s)
-      if (feature_i(s) == key.on_i && feature_j(s) == key.on_j)
+    for (int m = 0; m < keys.count; ++m)
+      if (keys.on_i[m] == key.on_i && keys.on_j[m] == key.on_j) {
+        const int s = keys.first + m;
         return MidwayState{load3(point, s) + midpoint, multiplier(s)};
+      }
     return MidwayState{};
   }
 
@@ -76,7 +94,7 @@ struct ClumpPairState : ImplicitPairState {
   KOKKOS_INLINE_FUNCTION void
   element_pair(const PairRef& r, const PieceA& piece_a, int feature_a, Vec3 centre_a,
                double reach_a, double equivalent_a, const PlacedElement& element_b, int feature_b,
-               Vec3 midpoint, Gathered<K>& g, NarrowPhaseTally& tally) const {
+               const SlotKeys& keys, Vec3 midpoint, Gathered<K>& g, NarrowPhaseTally& tally) const {
     const double reach = reach_a + element_b.bounding_radius;
     const double distance = norm(element_b.body.centre - centre_a);
     if (!(distance < reach)) {
@@ -86,7 +104,7 @@ struct ClumpPairState : ImplicitPairState {
     using clump_contact::reversed;
     const FeaturePair key =
         r.flipped ? FeaturePair{feature_b, feature_a} : FeaturePair{feature_a, feature_b};
-    const MidwayState stored = kept_start(r.k, key, midpoint);
+    const MidwayState stored = kept_start(keys, key, midpoint);
     const NarrowPhaseResult result =
         piece_contact(piece_a, element_b, r.flipped ? reversed(stored) : stored, controls);
     if (iterative_pair(piece_a, element_b))
@@ -149,6 +167,7 @@ template <class A> struct ClumpNarrowPhaseOf : ClumpPairState, EveryRowOfTheType
     if (screened(r, r.flipped || a_turns, !r.flipped || a_turns, outcome))
       return outcome;
     const Vec3 midpoint = centres_midpoint(r.i, r.j);
+    const SlotKeys keys = slot_keys(r.k);
     Gathered<max_contacts> g(found);
     const Mat3 rotation_b = rotation_matrix(load_quat(p.orientation, r.b));
     const int elements_b = ClumpFamily::element_count(clumps, shapes, p, r.b);
@@ -160,8 +179,8 @@ template <class A> struct ClumpNarrowPhaseOf : ClumpPairState, EveryRowOfTheType
         for (int f = 0; f < elements_b; ++f)
           element_pair(r, element_a, e, element_a.body.centre, element_a.bounding_radius,
                        element_a.equivalent_radius,
-                       ClumpFamily::element(clumps, shapes, p, r.b, rotation_b, f), f, midpoint, g,
-                       tally);
+                       ClumpFamily::element(clumps, shapes, p, r.b, rotation_b, f), f, keys,
+                       midpoint, g, tally);
       }
     } else {
       const auto body_a = whole_body<A>(r.a);
@@ -169,8 +188,8 @@ template <class A> struct ClumpNarrowPhaseOf : ClumpPairState, EveryRowOfTheType
       const double equivalent_a = whole_equivalent_radius<A>(r.a);
       for (int f = 0; f < elements_b; ++f)
         element_pair(r, body_a, 0, centre_a, p.radius(r.a), equivalent_a,
-                     ClumpFamily::element(clumps, shapes, p, r.b, rotation_b, f), f, midpoint, g,
-                     tally);
+                     ClumpFamily::element(clumps, shapes, p, r.b, rotation_b, f), f, keys, midpoint,
+                     g, tally);
     }
     return finish(r, g, midpoint);
   }
