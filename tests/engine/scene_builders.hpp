@@ -177,6 +177,54 @@ inline RunOutcome run_steps(const SceneConfig& scene, int steps) {
   return outcome_of(engine);
 }
 
+// A body of scene shape `shape` at `position` turned by q, moving.
+inline ParticleInit shaped_particle(int shape, Vec3d position, Quat q, Vec3d velocity = {0, 0, 0},
+                                    Vec3d angular_velocity = {0, 0, 0}) {
+  ParticleInit p;
+  p.shape = shape;
+  p.position = position;
+  p.orientation = {q.w, q.x, q.y, q.z};
+  p.velocity = velocity;
+  p.angular_velocity = angular_velocity;
+  return p;
+}
+
+// A box of planes (9 mm wide) for bodies of `shape` dropped into it in a 3 x 3 x 3 lattice
+// (lattice_bodies), under gravity, with friction and rolling resistance: the scene in which two
+// descriptions of the same bodies must move alike.
+inline SceneConfig lattice_drop(const ShapeConfig& shape) {
+  SceneConfig scene = empty_scene(2e-6, {material("beads", 2500, 1e7, 0.25, 0.5, 0.4, 0.02)});
+  scene.gravity = {0, 0, -9.81};
+  scene.shapes.push_back(shape);
+  scene.walls.push_back(plane_wall("beads", {0, 0, 0}, {0, 0, 1}));
+  for (int axis = 0; axis < 2; ++axis)
+    for (double side : {-1.0, 1.0}) {
+      Vec3d point{0, 0, 0}, normal{0, 0, 0};
+      point[axis] = side * 4.5e-3;
+      normal[axis] = -side;
+      scene.walls.push_back(plane_wall("beads", point, normal));
+    }
+  return scene;
+}
+
+// 27 bodies of shape id `shape` (radius `radius` where the shape is a sphere, id 0) on a
+// 2.8 mm lattice, turned, spinning and thrown at each other.
+inline std::vector<ParticleInit> lattice_bodies(int shape, double radius = 0) {
+  std::vector<ParticleInit> bodies;
+  for (int k = 0; k < 27; ++k) {
+    const Vec3d at{(k % 3 - 1) * 2.8e-3, (k / 3 % 3 - 1) * 2.8e-3, 2e-3 + (k / 9) * 2.8e-3};
+    const Vec3 axis{std::sin(1.0 + k), std::cos(2.0 * k), 0.5};
+    const double half = 0.2 * k;
+    const Vec3 u = (std::sin(half) / norm(axis)) * axis;
+    const Vec3d velocity{0.3 * std::sin(3.0 * k), 0.3 * std::cos(5.0 * k), -0.2 - 0.3 * (k / 9)};
+    ParticleInit p = shaped_particle(shape, at, Quat{std::cos(half), u.x, u.y, u.z}, velocity,
+                                     {100.0 * std::cos(k), 0, 50.0});
+    p.radius = radius;
+    bodies.push_back(p);
+  }
+  return bodies;
+}
+
 // Rigid-body impact theory (e.g. Brach, Mechanical Impact Dynamics, 1991): a body hitting a
 // frictionless wall at point r (from its centre) with normal n gets the impulse
 // J = -(1 + e) v_c.n / (1/m + (r x n).I^-1 (r x n)), v_c the contact point's velocity.

@@ -18,17 +18,6 @@
 namespace kdem::testing {
 namespace {
 
-ParticleInit shaped(int shape, Vec3d position, Quat q, Vec3d velocity = {0, 0, 0},
-                    Vec3d angular_velocity = {0, 0, 0}) {
-  ParticleInit p;
-  p.shape = shape;
-  p.position = position;
-  p.orientation = {q.w, q.x, q.y, q.z};
-  p.velocity = velocity;
-  p.angular_velocity = angular_velocity;
-  return p;
-}
-
 ClumpElementParameters sphere_element(double radius, Vec3d position) {
   ClumpElementParameters e;
   e.sphere = true;
@@ -62,38 +51,6 @@ std::vector<ClumpElement> host_elements(const std::vector<ClumpElementParameters
   return out;
 }
 
-// A box of planes with 27 bodies dropped into it in a 3 x 3 x 3 lattice, turned and spinning.
-SceneConfig lattice_drop(const ShapeConfig& shape) {
-  SceneConfig scene = empty_scene(2e-6, {material("beads", 2500, 1e7, 0.25, 0.5, 0.4, 0.02)});
-  scene.gravity = {0, 0, -9.81};
-  scene.shapes.push_back(shape);
-  scene.walls.push_back(plane_wall("beads", {0, 0, 0}, {0, 0, 1}));
-  for (int axis = 0; axis < 2; ++axis)
-    for (double side : {-1.0, 1.0}) {
-      Vec3d point{0, 0, 0}, normal{0, 0, 0};
-      point[axis] = side * 4.5e-3;
-      normal[axis] = -side;
-      scene.walls.push_back(plane_wall("beads", point, normal));
-    }
-  return scene;
-}
-
-std::vector<ParticleInit> lattice(int shape, double radius) {
-  std::vector<ParticleInit> bodies;
-  for (int k = 0; k < 27; ++k) {
-    const Vec3d at{(k % 3 - 1) * 2.8e-3, (k / 3 % 3 - 1) * 2.8e-3, 2e-3 + (k / 9) * 2.8e-3};
-    const Vec3 axis{std::sin(1.0 + k), std::cos(2.0 * k), 0.5};
-    const double half = 0.2 * k;
-    const Vec3 u = (std::sin(half) / norm(axis)) * axis;
-    const Vec3d velocity{0.3 * std::sin(3.0 * k), 0.3 * std::cos(5.0 * k), -0.2 - 0.3 * (k / 9)};
-    ParticleInit p = shaped(shape, at, Quat{std::cos(half), u.x, u.y, u.z}, velocity,
-                            {100.0 * std::cos(k), 0, 50.0});
-    p.radius = radius;
-    bodies.push_back(p);
-  }
-  return bodies;
-}
-
 TEST(ClumpEngine, AClumpOfOneSphereMovesAsASphere) {
   // The same contacts by two paths (the pair types sphere-sphere and clump-clump with their own
   // Hertz radius formulas, which agree to rounding; the sphere's isotropic rotation against the
@@ -103,8 +60,8 @@ TEST(ClumpEngine, AClumpOfOneSphereMovesAsASphere) {
   const double r = 1.0e-3;
   Engine spheres(lattice_drop(clump_shape_config("unused", {sphere_element(r, {0, 0, 0})})));
   Engine clumps(lattice_drop(clump_shape_config("ball", {sphere_element(r, {0, 0, 0})})));
-  spheres.add_particles(lattice(0, r));
-  clumps.add_particles(lattice(1, 0));
+  spheres.add_particles(lattice_bodies(0, r));
+  clumps.add_particles(lattice_bodies(1));
   int touching = 0;
   for (int k = 0; k < 3000; ++k) {
     spheres.step();
@@ -131,8 +88,8 @@ TEST(ClumpEngine, AClumpOfOneSuperquadricMovesAsTheSuperquadric) {
   Engine superquadrics(sq_scene);
   Engine clumps(
       lattice_drop(clump_shape_config("one", {superquadric_element(axes, 4, 3, {0, 0, 0})})));
-  superquadrics.add_particles(lattice(1, 0));
-  clumps.add_particles(lattice(1, 0));
+  superquadrics.add_particles(lattice_bodies(1));
+  clumps.add_particles(lattice_bodies(1));
   int touching = 0;
   for (int k = 0; k < 3000; ++k) {
     superquadrics.step();
@@ -187,7 +144,7 @@ TEST_P(SpherocylinderDrop, ReboundFollowsRigidBodyImpactTheory) {
   const Vec3 centroid = lower_centre + r0 * axis; // symmetric: the centroid is the middle
   const Vec3 v0{0, 0, -0.5};
   engine.add_particles(
-      {shaped(1, {centroid.x, centroid.y, centroid.z}, orientation, {v0.x, v0.y, v0.z})});
+      {shaped_particle(1, {centroid.x, centroid.y, centroid.z}, orientation, {v0.x, v0.y, v0.z})});
 
   const ClumpMassProperties union_mass = clump_mass_properties(host_elements(spherocylinder(r0)));
   const double mass = density * union_mass.volume;
@@ -225,8 +182,8 @@ TEST(ClumpEngine, ASpherocylinderLyingFlatRestsOnThreeElementContacts) {
   scene.walls.push_back(plane_wall("m", {0, 0, 0}, {0, 0, 1}));
   Engine engine(scene);
   const double half_turn = pi / 4; // body z along world y
-  engine.add_particles(
-      {shaped(1, {0, 0, r0 + 1e-5}, Quat{std::cos(half_turn), std::sin(half_turn), 0, 0})});
+  engine.add_particles({shaped_particle(1, {0, 0, r0 + 1e-5},
+                                        Quat{std::cos(half_turn), std::sin(half_turn), 0, 0})});
   for (int k = 0; k < 60000; ++k)
     engine.step();
   EXPECT_EQ(engine.diagnostics().wall_contacts, 3);
@@ -258,7 +215,8 @@ double force_on_a_pressed_sphere(const std::vector<ClumpElementParameters>& elem
   settings.seam_weighted = weighted;
   scene.family_settings["clump"] = std::make_shared<ClumpContactConfig>(settings);
   Engine engine(scene);
-  engine.add_particles({shaped(1, {0, 0, 0}, Quat{1, 0, 0, 0}), sphere(ball, small, {}, 1)});
+  engine.add_particles(
+      {shaped_particle(1, {0, 0, 0}, Quat{1, 0, 0, 0}), sphere(ball, small, {}, 1)});
   engine.step();
   const double mass = 2500 * 4.0 / 3.0 * pi * small * small * small;
   return mass * norm(row3(engine.snapshot().velocity, 1)) / dt;

@@ -16,47 +16,6 @@
 namespace kdem::testing {
 namespace {
 
-ParticleInit shaped(int shape, Vec3d position, Quat q, Vec3d velocity = {0, 0, 0},
-                    Vec3d angular_velocity = {0, 0, 0}) {
-  ParticleInit p;
-  p.shape = shape;
-  p.position = position;
-  p.orientation = {q.w, q.x, q.y, q.z};
-  p.velocity = velocity;
-  p.angular_velocity = angular_velocity;
-  return p;
-}
-
-// A box of planes with bodies dropped into it in a 3 x 3 x 3 lattice, turned and spinning.
-SceneConfig lattice_drop(const ShapeConfig& shape) {
-  SceneConfig scene = empty_scene(2e-6, {material("beads", 2500, 1e7, 0.25, 0.5, 0.4, 0.02)});
-  scene.gravity = {0, 0, -9.81};
-  scene.shapes.push_back(shape);
-  scene.walls.push_back(plane_wall("beads", {0, 0, 0}, {0, 0, 1}));
-  for (int axis = 0; axis < 2; ++axis)
-    for (double side : {-1.0, 1.0}) {
-      Vec3d point{0, 0, 0}, normal{0, 0, 0};
-      point[axis] = side * 4.5e-3;
-      normal[axis] = -side;
-      scene.walls.push_back(plane_wall("beads", point, normal));
-    }
-  return scene;
-}
-
-std::vector<ParticleInit> lattice(int shape) {
-  std::vector<ParticleInit> bodies;
-  for (int k = 0; k < 27; ++k) {
-    const Vec3d at{(k % 3 - 1) * 2.8e-3, (k / 3 % 3 - 1) * 2.8e-3, 2e-3 + (k / 9) * 2.8e-3};
-    const Vec3 axis{std::sin(1.0 + k), std::cos(2.0 * k), 0.5};
-    const double half = 0.2 * k;
-    const Vec3 u = (std::sin(half) / norm(axis)) * axis;
-    const Vec3d velocity{0.3 * std::sin(3.0 * k), 0.3 * std::cos(5.0 * k), -0.2 - 0.3 * (k / 9)};
-    bodies.push_back(shaped(shape, at, Quat{std::cos(half), u.x, u.y, u.z}, velocity,
-                            {100.0 * std::cos(k), 0, 50.0}));
-  }
-  return bodies;
-}
-
 TEST(PolySuperquadricEngine, SymmetricShapesMoveAsTheSuperquadricsTheyAre) {
   // r+ = r- on every axis: the same bodies, so the same motion, up to the rounding of two
   // different computations of the same contacts (the poly path takes its surface points from the
@@ -66,8 +25,8 @@ TEST(PolySuperquadricEngine, SymmetricShapesMoveAsTheSuperquadricsTheyAre) {
   const Vec3d axes{1.0e-3, 0.8e-3, 0.6e-3};
   Engine superquadrics(lattice_drop(superquadric_shape_config("sq", axes, 4, 3)));
   Engine polys(lattice_drop(poly_superquadric_shape_config("poly", axes, axes, 4, 3)));
-  superquadrics.add_particles(lattice(1));
-  polys.add_particles(lattice(1));
+  superquadrics.add_particles(lattice_bodies(1));
+  polys.add_particles(lattice_bodies(1));
   int touching = 0;
   for (int k = 0; k < 3000; ++k) {
     superquadrics.step();
@@ -110,7 +69,7 @@ TEST_P(HemisphereDrop, ReboundFollowsRigidBodyImpactTheory) {
   const Vec3 centroid = sphere_centre + body_c0 * dome;
   const Vec3 v0{0, 0, -0.5};
   engine.add_particles(
-      {shaped(1, {centroid.x, centroid.y, centroid.z}, orientation, {v0.x, v0.y, v0.z})});
+      {shaped_particle(1, {centroid.x, centroid.y, centroid.z}, orientation, {v0.x, v0.y, v0.z})});
 
   const double mass = density * 2.0 / 3.0 * pi * r0 * r0 * r0;
   const double axial = 0.4 * mass * r0 * r0, transverse = 83.0 / 320.0 * mass * r0 * r0;
