@@ -13,6 +13,13 @@
 #include "engine_state.hpp"
 
 namespace kdem {
+
+// Instantiated in engine.cpp alone: a template holding a KOKKOS_LAMBDA must be compiled in one
+// unit of a CUDA build (scripts/check_cuda_lambdas.sh).
+extern template void assign_slots_by_pair_type<Families>(PairList&, const ParticleViews&,
+                                                         const ShapeFamilies&, int);
+extern template void assign_wall_slots_by_family<Families>(WallContactList&, const ParticleViews&,
+                                                           const ShapeFamilies&, int);
 namespace {
 
 template <class View> auto host_copy(const View& view) {

@@ -829,4 +829,11 @@ template double kick_and_drift<RigidBodyRotation>(const ParticleViews&, double);
 template void kick<IsotropicRotation>(const ParticleViews&, double);
 template void kick<RigidBodyRotation>(const ParticleViews&, double);
 
+// The one instantiation of the slot assignments, which hold a KOKKOS_LAMBDA (checkpoint_checks.cpp
+// declares them extern; scripts/check_cuda_lambdas.sh).
+template void assign_slots_by_pair_type<Families>(PairList&, const ParticleViews&,
+                                                  const ShapeFamilies&, int);
+template void assign_wall_slots_by_family<Families>(WallContactList&, const ParticleViews&,
+                                                    const ShapeFamilies&, int);
+
 } // namespace kdem
