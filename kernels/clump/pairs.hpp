@@ -89,18 +89,21 @@ struct ClumpPairState : ImplicitPairState {
   };
 
   // One piece of body a (feature_a; centre and reach of its bounding sphere) against element
-  // feature_b of the clump b.
+  // feature_b of the clump b (its template, and b's position and axes): placed only when the
+  // bounding spheres meet, as most element pairs of two clumps do not.
   template <int K, class PieceA>
   KOKKOS_INLINE_FUNCTION void
   element_pair(const PairRef& r, const PieceA& piece_a, int feature_a, Vec3 centre_a,
-               double reach_a, double equivalent_a, const PlacedElement& element_b, int feature_b,
-               const SlotKeys& keys, Vec3 midpoint, Gathered<K>& g, NarrowPhaseTally& tally) const {
-    const double reach = reach_a + element_b.bounding_radius;
-    const double distance = norm(element_b.body.centre - centre_a);
+               double reach_a, double equivalent_a, const ClumpElementTemplate& template_b,
+               Vec3 position_b, const Mat3& rotation_b, int feature_b, const SlotKeys& keys,
+               Vec3 midpoint, Gathered<K>& g, NarrowPhaseTally& tally) const {
+    const double reach = reach_a + template_b.bounding_radius;
+    const double distance = norm(position_b + rotation_b * template_b.centre - centre_a);
     if (!(distance < reach)) {
       g.gap = math::min(g.gap, distance - reach);
       return;
     }
+    const PlacedElement element_b = place_element(template_b, position_b, rotation_b);
     using clump_contact::reversed;
     const FeaturePair key =
         r.flipped ? FeaturePair{feature_b, feature_a} : FeaturePair{feature_a, feature_b};
@@ -170,7 +173,9 @@ template <class A> struct ClumpNarrowPhaseOf : ClumpPairState, EveryRowOfTheType
     const SlotKeys keys = slot_keys(r.k);
     Gathered<max_contacts> g(found);
     const Mat3 rotation_b = rotation_matrix(load_quat(p.orientation, r.b));
-    const int elements_b = ClumpFamily::element_count(clumps, shapes, p, r.b);
+    const Vec3 position_b = load3(p.position, r.b);
+    const int template_b = shapes.template_index(p.shape(r.b));
+    const int elements_b = clumps.elements.size(template_b);
     if constexpr (std::is_same_v<A, ClumpFamily>) {
       const Mat3 rotation_a = rotation_matrix(load_quat(p.orientation, r.a));
       const int elements_a = ClumpFamily::element_count(clumps, shapes, p, r.a);
@@ -178,9 +183,8 @@ template <class A> struct ClumpNarrowPhaseOf : ClumpPairState, EveryRowOfTheType
         const PlacedElement element_a = ClumpFamily::element(clumps, shapes, p, r.a, rotation_a, e);
         for (int f = 0; f < elements_b; ++f)
           element_pair(r, element_a, e, element_a.body.centre, element_a.bounding_radius,
-                       element_a.equivalent_radius,
-                       ClumpFamily::element(clumps, shapes, p, r.b, rotation_b, f), f, keys,
-                       midpoint, g, tally);
+                       element_a.equivalent_radius, clumps.elements(template_b, f), position_b,
+                       rotation_b, f, keys, midpoint, g, tally);
       }
     } else {
       const auto body_a = whole_body<A>(r.a);
@@ -188,8 +192,8 @@ template <class A> struct ClumpNarrowPhaseOf : ClumpPairState, EveryRowOfTheType
       const double equivalent_a = whole_equivalent_radius<A>(r.a);
       for (int f = 0; f < elements_b; ++f)
         element_pair(r, body_a, 0, centre_a, p.radius(r.a), equivalent_a,
-                     ClumpFamily::element(clumps, shapes, p, r.b, rotation_b, f), f, keys, midpoint,
-                     g, tally);
+                     clumps.elements(template_b, f), position_b, rotation_b, f, keys, midpoint, g,
+                     tally);
     }
     return finish(r, g, midpoint);
   }
