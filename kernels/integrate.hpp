@@ -150,7 +150,9 @@ double kick_and_drift(const ParticleViews& p, double dt) {
         largest = travel > largest ? travel : largest;
       },
       Kokkos::Max<double>(farthest));
-  return farthest;
+  // Over no particles (a scene that rains them in) the reduction gives its identity, -inf,
+  // which would stop the surface travel, and every certificate with it, for good.
+  return math::max(farthest, 0.0);
 }
 
 // The second half kick of velocities.

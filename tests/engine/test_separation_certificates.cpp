@@ -316,14 +316,28 @@ TEST(SeparationCertificates, DriftOfANaNParticleExpiresEveryCertificate) {
   EXPECT_EQ(kick_and_drift_rigid(p, 1e-4), unbounded_travel);
 }
 
+// Over no particles (a scene that rains them in starts empty) the drift moves nothing: it returns
+// 0, not the maximum's identity (-inf), which would hold the surface travel, and every
+// certificate measured against it, for good.
+TEST(SeparationCertificates, DriftOfNoParticlesReturnsZero) {
+  ParticleViews p;
+  p.allocate(0);
+  EXPECT_EQ(kick_and_drift_rigid(p, 1e-4), 0.0);
+}
+
 } // namespace
 
 namespace testing {
 namespace {
 
 RunOutcome run_small_superquadrics(bool certificates, int steps, bool extrapolate = true,
-                                   bool box_certificates = true) {
+                                   bool box_certificates = true, bool rained = false) {
   SceneConfig scene = cli_scene("small_superquadrics");
+  if (rained)
+    for (ParticleSourceConfig& source : scene.sources) {
+      source.rate = double(source.count) / 0.002; // two batches, the first at t = 0
+      source.interval = 0.001;
+    }
   SuperquadricContactConfig& contact = modify_superquadric_contact(scene);
   contact.separation_certificates = certificates;
   contact.box_certificates = box_certificates;
@@ -358,6 +372,20 @@ TEST(SeparationCertificates, RunsAgreeWithAndWithoutCertificates) {
   RecordProperty("largest_position_difference", difference.str());
   RecordProperty("evaluations_with", std::to_string(with.totals.evaluations));
   RecordProperty("evaluations_without", std::to_string(without.totals.evaluations));
+}
+
+// The same with every source raining, so that the run starts without particles: the surface
+// travel must start from the first batch (it once stayed at -inf, the empty drift's maximum,
+// and every superquadric pair was held apart by its certificate for good).
+TEST(SeparationCertificates, RainedRunsAgreeWithAndWithoutCertificates) {
+  const int steps = 4000;
+  const RunOutcome with = run_small_superquadrics(true, steps, true, true, true);
+  const RunOutcome without = run_small_superquadrics(false, steps, true, true, true);
+  EXPECT_LT(largest_position_difference(with, without), 1e-9);
+  EXPECT_GT(with.contacts, 0);
+  EXPECT_EQ(with.contacts, without.contacts);
+  EXPECT_EQ(with.totals.failures, 0);
+  EXPECT_GT(with.totals.evaluations, 0);
 }
 
 // The pairs that hold a separation certificate in an engine's checkpoint (margin > 0).
