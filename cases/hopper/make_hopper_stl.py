@@ -4,13 +4,15 @@
 A square bin of side 40 mm above a pyramidal hopper whose walls make 60 degrees with the
 horizontal and end in a 16 x 16 mm orifice at z = 0. The bin is `bin_height` tall above the
 hopper's top edge (the book does not give it; it only has to hold the fill).
+
+`hopper_triangles` and `write_stl` take any square hopper (the chapter 3 hoppers use them).
 """
 import math
 import sys
 
 TOP_HALF = 0.020      # m, half side of the bin
 ORIFICE_HALF = 0.008  # m, half side of the orifice
-ANGLE = math.radians(60.0)
+ANGLE_DEGREES = 60.0  # wall against the horizontal
 BIN_HEIGHT = 0.130    # m
 
 
@@ -18,10 +20,13 @@ def quad(a, b, c, d):
     return [(a, b, c), (a, c, d)]
 
 
-def hopper_triangles():
-    cone_top = (TOP_HALF - ORIFICE_HALF) * math.tan(ANGLE)
-    top = cone_top + BIN_HEIGHT
-    o, t = ORIFICE_HALF, TOP_HALF
+def hopper_triangles(top_half=TOP_HALF, orifice_half=ORIFICE_HALF, angle_degrees=ANGLE_DEGREES,
+                     bin_height=BIN_HEIGHT):
+    """Triangles of the pyramid (orifice at z = 0) and the bin above it, with the heights of
+    the pyramid's top edge and of the bin's top."""
+    cone_top = (top_half - orifice_half) * math.tan(math.radians(angle_degrees))
+    top = cone_top + bin_height
+    o, t = orifice_half, top_half
     low = [(-o, -o, 0.0), (o, -o, 0.0), (o, o, 0.0), (-o, o, 0.0)]
     mid = [(-t, -t, cone_top), (t, -t, cone_top), (t, t, cone_top), (-t, t, cone_top)]
     high = [(-t, -t, top), (t, -t, top), (t, t, top), (-t, t, top)]
