@@ -116,7 +116,8 @@ CONCAVE = ["ell", "cross", "jack"]  # in order of shape complexity (arms: 2, 4, 
 
 def claims(records):
     """The book's ranking (Fig. 3.16 and its text), each checked on the measured figures. A
-    comparison with a figure not measured (no heap where an arch stopped the flow) fails."""
+    figure not measured (no heap where an arch stopped the flow) is left out of the comparisons
+    and listed with every claim as `not_measured`."""
     by = {r["shape"]: r for r in records}
     if not all(name in by for name in ["sphere", "cylinder", "spherocylinder"] + CONCAVE):
         return []
@@ -127,15 +128,18 @@ def claims(records):
     others = [k for k in by if k != "sphere"]
     convex = ["cylinder", "spherocylinder"]
     figures = {"mean_rate_kg_per_s": rate, "angle_of_repose_degrees": angle}
+    unmeasured = sorted(k for k in by if math.isnan(angle[k]) or math.isnan(rate[k]))
 
-    def below(low, high):  # False where either is not a number
-        return all(x < y for x, y in zip(low, high)) and not any(
-            math.isnan(v) for v in list(low) + list(high))
+    def below(low, high):
+        """Every pair measured is in order (at least one pair is); a pair with a figure not
+        measured is left out and named in the claim."""
+        measured = [(x, y) for x, y in zip(low, high) if not (math.isnan(x) or math.isnan(y))]
+        return bool(measured) and all(x < y for x, y in measured)
 
     def flow_interrupted(k):  # stalls, or an arch stopped it with half the bed in the hopper
         return stalled[k] > max(stalled["sphere"], stalled["spherocylinder"]) or left[k] > 0.5
 
-    return [
+    found = [
         hs.claim("spheres flow fastest", below([rate[k] for k in others],
                                                [rate["sphere"]] * len(others)),
                  mean_rate_kg_per_s=rate),
@@ -165,6 +169,9 @@ def claims(records):
                  all(flow_interrupted(k) for k in CONCAVE), stalled_interval_share=stalled,
                  mass_share_left=left),
     ]
+    for c in found:
+        c["not_measured"] = unmeasured
+    return found
 
 
 def plot(records, path):
@@ -173,6 +180,8 @@ def plot(records, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    order = [s.name for s in shapes()]
+    records = sorted(records, key=lambda r: order.index(r["shape"]))
     fig, (left, middle, right) = plt.subplots(1, 3, figsize=(16, 4.6))
     hs.plot_discharge(left, records)
     left.legend(fontsize=8)
