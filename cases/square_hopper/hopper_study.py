@@ -48,7 +48,8 @@ CONTAINER_DEPTH = 0.075  # m, H2 = 75 mm
 SETTLE_TIME = 0.15  # s, after the last particle has fallen onto the bed
 PLACEMENT_FILL = 0.25  # bounding-sphere volume fraction of a batch in the rain region
 RAIN_HEIGHT = 0.075  # m, the rain region's height
-RAIN_CLEARANCE = 0.06  # m, from the pyramid's top edge to the rain region
+RAIN_CLEARANCE = 0.06  # m, from the pyramid's top edge to the rain region (at least)
+BED_FRACTION = 0.5  # solid fraction a settled bed is taken to have, for its height (lower bound)
 RAIN_SPEED = 1.5  # m/s downwards, so that a batch has left the region when the next comes
 RAIN_INTERVAL = 0.05  # s, between batches (a batch moves 87 mm in that time)
 SEGMENT_TIME = 0.2  # s of a run segment
@@ -117,13 +118,24 @@ class Case:
     seed_default = 11
 
     def __init__(self, name, shape, hopper, count, discharge_time, seed=seed_default):
-        self.name, self.shape, self.hopper, self.count = name, shape, hopper, count
+        self.name, self.shape, self.count = name, shape, count
         self.discharge_time, self.seed = discharge_time, seed
+        needed = self.rain_clearance(hopper) + RAIN_HEIGHT + 0.005
+        if hopper.bin_height < needed:  # a bed too deep for the bin: a taller one
+            hopper = Hopper(hopper.top_half, hopper.orifice_half, hopper.angle_degrees, needed)
+        self.hopper = hopper
+
+    def rain_clearance(self, hopper):
+        """RAIN_CLEARANCE, or more where the settled bed could reach the rain region (the bed
+        taken at a solid fraction of BED_FRACTION in the bin, the pyramid left out)."""
+        side = 2.0 * hopper.top_half
+        bed = self.count * sphere_volume(self.shape.diameter) / (BED_FRACTION * side * side)
+        return max(RAIN_CLEARANCE, bed + 0.02)
 
     def fill_region(self):
         """The box the particles rain from: the bin's width, RAIN_HEIGHT tall, its floor
-        RAIN_CLEARANCE above the pyramid's top edge (above the settled bed)."""
-        low = self.hopper.cone_top + RAIN_CLEARANCE
+        rain_clearance above the pyramid's top edge (above the settled bed)."""
+        low = self.hopper.cone_top + self.rain_clearance(self.hopper)
         return low, low + RAIN_HEIGHT
 
     def batch_size(self):
@@ -136,7 +148,7 @@ class Case:
     def gate_open(self):
         """The last batch's time, its fall onto the bed and SETTLE_TIME."""
         batches = math.ceil(self.count / self.batch_size())
-        drop = RAIN_CLEARANCE + RAIN_HEIGHT
+        drop = self.rain_clearance(self.hopper) + RAIN_HEIGHT
         fall = (-RAIN_SPEED + math.sqrt(RAIN_SPEED ** 2 + 2 * 9.81 * drop)) / 9.81
         return (batches - 1) * RAIN_INTERVAL + fall + SETTLE_TIME
 
@@ -378,11 +390,16 @@ def write_json(path, data):
     os.replace(path + ".tmp", path)
 
 
-def analyse(study, out_dir):
+def with_count(case, count, study_count):
+    return Case(case.name, case.shape, case.hopper, count,
+                case.discharge_time * max(1.0, count / study_count), case.seed)
+
+
+def analyse(study, out_dir, results_name="results"):
     finished = [case for case in study.CASES if case_finished(out_dir, case)]
     records = [analyse_case(out_dir, case) for case in finished]
     missing = [c.name for c in study.CASES if c not in finished]
-    results_dir = os.path.join(os.path.dirname(os.path.abspath(study.__file__)), "results")
+    results_dir = os.path.join(os.path.dirname(os.path.abspath(study.__file__)), results_name)
     os.makedirs(results_dir, exist_ok=True)
     main = [r for r, case in zip(records, finished) if case.seed == Case.seed_default]
     result = {"study": study.TITLE, "cpu": cpu_name(), "missing_cases": missing,
@@ -527,7 +544,14 @@ def main(study):
     parser.add_argument("out_dir")
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--cases", default="", help="comma-separated case names (default: all)")
+    parser.add_argument("--count", type=int, default=0,
+                        help="particles per case instead of the study's (results then go to "
+                             "results/count_N; each case's longest duration grows in step)")
     args = parser.parse_args()
+    results_name = "results"
+    if args.count:
+        study.CASES = [with_count(c, args.count, study.COUNT) for c in study.CASES]
+        results_name = os.path.join("results", "count_%d" % args.count)
     if args.cases:
         wanted = args.cases.split(",")
         unknown = [w for w in wanted if w not in [c.name for c in study.CASES]]
@@ -540,4 +564,4 @@ def main(study):
         write_scenes(study, args.out_dir)
         run_all(study, args.out_dir, args.jobs)
     else:
-        analyse(study, args.out_dir)
+        analyse(study, args.out_dir, results_name)
