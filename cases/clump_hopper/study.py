@@ -27,12 +27,12 @@ TURN_X_TO_Z = (math.sqrt(0.5), 0.0, math.sqrt(0.5), 0.0)  # element axis z turne
 TURN_Y_TO_Z = (math.sqrt(0.5), -math.sqrt(0.5), 0.0, 0.0)  # element axis z turned onto y
 
 
-def rod(position, orientation=None, radius=1.0, blockiness=ROD_BLOCKINESS):
-    """A cylinder-like superquadric element of unit radius, L:D = 3:1, axis z unless turned."""
-    element = {"kind": "superquadric", "position": position, "orientation": orientation,
-               "half_axes": (radius, radius, radius * ROD_LENGTH_TO_DIAMETER),
-               "blockiness": blockiness}
-    return element
+def rod(position, orientation=None, half_length=ROD_LENGTH_TO_DIAMETER,
+        blockiness=ROD_BLOCKINESS):
+    """A cylinder-like superquadric element of unit radius (L:D = 3:1 unless `half_length`
+    says otherwise), axis z unless turned."""
+    return {"kind": "superquadric", "position": position, "orientation": orientation,
+            "half_axes": (1.0, 1.0, half_length), "blockiness": blockiness}
 
 
 def ball(position, radius=1.0):
@@ -100,7 +100,7 @@ def shapes():
         hs.Shape("sphere", "sphere", [], D0 / 2, D0, sphere=True),
         cylinder_shape(),
         clump_shape("spherocylinder", "spherocylinder",
-                    [rod((0, 0, 0), blockiness=(10, 2)) | {"half_axes": (1, 1, h)},
+                    [rod((0, 0, 0), half_length=h, blockiness=(10, 2)),
                      ball((0, 0, h)), ball((0, 0, -h))]),
         clump_shape("ell", "L (2 rods)",
                     [rod((arm, 0, 0), TURN_X_TO_Z), rod((0, arm, 0), TURN_Y_TO_Z)]),

@@ -93,18 +93,16 @@ class Hopper:
     def __init__(self, top_half, orifice_half, angle_degrees, bin_height):
         self.top_half, self.orifice_half = top_half, orifice_half
         self.angle_degrees, self.bin_height = angle_degrees, bin_height
-        _, self.cone_top, self.top = hopper_triangles(top_half, orifice_half, angle_degrees,
-                                                      bin_height)
+        self.triangles, self.cone_top, self.top = hopper_triangles(top_half, orifice_half,
+                                                                   angle_degrees, bin_height)
 
     def mesh_name(self):
         return "hopper_%03.0f_%02.0f_%02.0f.stl" % (2e3 * self.top_half, 2e3 * self.orifice_half,
                                                     self.angle_degrees)
 
     def write_mesh(self, out_dir):
-        triangles, _, _ = hopper_triangles(self.top_half, self.orifice_half, self.angle_degrees,
-                                           self.bin_height)
         path = os.path.join(out_dir, self.mesh_name())
-        write_stl(path, triangles)
+        write_stl(path, self.triangles)
         return path
 
 
@@ -226,12 +224,14 @@ MEAN_RATE_TIME = 0.5  # s after the orifice opened: the mean rate over it ranks 
 
 
 def read_state(path):
+    """Time, and the particles' positions, masses and speeds, of a checkpoint."""
     import h5py
 
     with h5py.File(path, "r") as f:
         position = f["particles/position"][...].reshape(-1, 3)
         mass = f["particles/mass"][...].reshape(-1)
-        return float(f["time"][()]), position, mass
+        speed = (f["particles/velocity"][...].reshape(-1, 3) ** 2).sum(axis=1) ** 0.5
+        return float(f["time"][()]), position, mass, speed
 
 
 def discharge_series(run_dir, gate):
@@ -242,7 +242,7 @@ def discharge_series(run_dir, gate):
         paths.append(os.path.join(segment, "checkpoint.h5"))
     series = []
     for path in paths:
-        time, position, mass = read_state(path)
+        time, position, mass, _ = read_state(path)
         if time >= gate - 1e-9 and (not series or time - gate > series[-1][0] + 1e-9):
             series.append((time - gate, float(mass[position[:, 2] < 0].sum())))
     return [t for t, _ in series], [m for _, m in series]
@@ -280,14 +280,6 @@ def discharge_figures(time, mass, total):
     return {"mean_rate_kg_per_s": mean_rate, "discharge_rate_kg_per_s": rate,
             "discharged_fraction": final / total,
             "time_to_half_s": half, "stalled_interval_share": stalled}
-
-
-def speeds(path):
-    import h5py
-
-    with h5py.File(path, "r") as f:
-        velocity = f["particles/velocity"][...].reshape(-1, 3)
-    return (velocity ** 2).sum(axis=1) ** 0.5
 
 
 def heap_figures(position, diameter, count):
@@ -339,9 +331,8 @@ def analyse_case(out_dir, case):
         with open(os.path.join(segment, "run.json")) as f:
             summaries.append(json.load(f))
     summary = summaries[-1]
-    final_state = os.path.join(segments[-1], "checkpoint.h5")
-    _, position, mass = read_state(final_state)
-    resting = position[speeds(final_state) < HEAP_REST_SPEED]
+    _, position, mass, speed = read_state(os.path.join(segments[-1], "checkpoint.h5"))
+    resting = position[speed < HEAP_REST_SPEED]
     time, discharged = discharge_series(run_dir, case.gate_open())
     record = {"case": case.name, "shape": case.shape.name, "label": case.shape.label,
               "hopper_angle_degrees": case.hopper.angle_degrees,
@@ -429,7 +420,7 @@ def analyse(study, out_dir, results_name="results"):
                   r["narrow_phase_evaluations"]))
 
 
-def plot_discharge(axis, records, gate_label=True):
+def plot_discharge(axis, records):
     for r in records:
         total = r["total_mass_kg"]
         axis.plot(r["series_time_s"], [100 * m / total for m in r["series_discharged_kg"]],
@@ -447,8 +438,7 @@ def plot_heaps(axis, records):
         line, = axis.plot([1e3 * x for x in rs], [1e3 * h for h in hs_], ".", ms=4)
         if "fit" in r:
             slope, intercept = r["fit"]
-            xs = [x for x, h in r["envelope"] if x >= r["envelope"][0][0]]
-            axis.plot([1e3 * x for x in xs], [1e3 * (intercept + slope * x) for x in xs], "-",
+            axis.plot([1e3 * x for x in rs], [1e3 * (intercept + slope * x) for x in rs], "-",
                       color=line.get_color(), lw=1,
                       label="%s %.1f deg" % (r["label"], r["angle_of_repose_degrees"]))
     axis.set_ylim(bottom=0)
