@@ -18,6 +18,7 @@
 
 #include "superquadric_properties.hpp"
 #include "symmetric_eigen.hpp"
+#include "volume_moments.hpp"
 
 namespace kdem {
 
@@ -27,18 +28,7 @@ struct ClumpElement {
   Quat orientation; // unit; element frame to body frame
 };
 
-struct ClumpMassProperties {
-  double volume = 0;                  // m^3
-  Vec3 centroid;                      // m, body frame
-  Mat3 inertia_per_density;           // m^5, about the centroid, body frame, full tensor
-  Vec3 principal_inertia_per_density; // m^5, ascending
-  Mat3 principal_axes;                // columns: principal axes in the body frame, det +1
-  // Estimated relative error of the volume, the centroid (in units of the radius of gyration)
-  // and the inertia (in units of its trace): the change of the last grid refinement; 0 where no
-  // two element boxes intersect (the result is then exact).
-  double relative_precision = 0;
-  int grid_levels = 0; // grid levels evaluated (0: no overlap possible, no grid)
-};
+using ClumpMassProperties = BodyMassProperties;
 
 namespace clump_detail {
 
@@ -79,24 +69,7 @@ inline double smallest_semi_axis(const SuperquadricShape& s) {
   return std::min(s.a, std::min(s.b, s.c));
 }
 
-// Volume moments about a reference point: integral of 1, x and x x^T (m^3, m^4, m^5).
-struct Moments {
-  double volume = 0;
-  Vec3 first;
-  Mat3 second;
-};
-
-inline Moments operator-(const Moments& a, const Moments& b) {
-  return Moments{a.volume - b.volume, a.first - b.first, a.second + (-1.0) * b.second};
-}
-
-inline Mat3 outer(Vec3 u, Vec3 v) {
-  Mat3 m;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      m.m[i][j] = u[i] * v[j];
-  return m;
-}
+using Moments = VolumeMoments;
 
 // Exact: R diag(second moments) R^T about the element centre, shifted by the parallel-axis term.
 inline Moments element_moments(const ClumpElement& e, Vec3 reference) {
@@ -294,39 +267,6 @@ struct ExcessGrid {
     return excess;
   }
 };
-
-inline ClumpMassProperties properties_of(const Moments& m, Vec3 reference) {
-  ClumpMassProperties props;
-  props.volume = m.volume;
-  const Vec3 c = (1.0 / m.volume) * m.first; // from the reference
-  props.centroid = reference + c;
-  Mat3 second; // about the centroid: M = S - V c c^T
-  for (int i = 0; i < 3; ++i)
-    for (int j = i; j < 3; ++j)
-      second.m[i][j] = second.m[j][i] =
-          0.5 * (m.second.m[i][j] + m.second.m[j][i]) - m.volume * c[i] * c[j];
-  // I = tr(M) 1 - M (I_xx = integral of y^2 + z^2, I_xy = -integral of x y).
-  props.inertia_per_density = trace(second) * identity3() + (-1.0) * second;
-  const SymmetricEigen principal = symmetric_eigen(props.inertia_per_density);
-  props.principal_inertia_per_density = principal.values;
-  props.principal_axes = principal.vectors;
-  return props;
-}
-
-// The change between two estimates, relative to the later one's volume, radius of gyration
-// r_g = sqrt(tr I / (2 V)) (the centroid) and tr I (every entry of the tensor).
-inline double relative_change(const ClumpMassProperties& now, const ClumpMassProperties& before) {
-  const double inertia_scale = trace(now.inertia_per_density);
-  const double gyration = std::sqrt(inertia_scale / (2.0 * now.volume));
-  double change = std::max(std::fabs(now.volume - before.volume) / now.volume,
-                           norm(now.centroid - before.centroid) / gyration);
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      change = std::max(
-          change, std::fabs(now.inertia_per_density.m[i][j] - before.inertia_per_density.m[i][j]) /
-                      inertia_scale);
-  return change;
-}
 
 // Coarse cells: 1/8 of the smallest semi-axis of the elements in any pair box (the book's grid
 // rule, Sect. 3.2.2), doubled while there would be more than grid_max_cubes of them. Each level

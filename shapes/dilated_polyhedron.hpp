@@ -1,0 +1,461 @@
+#pragma once
+// Dilated (Minkowski-sum) polyhedra (book chapter 4; digest ch4_5 part A): a closed, outward
+// oriented triangulated core swept by a sphere of dilation radius r. Host and device.
+//
+// Contacts of two dilated cores are the local minima of the distance between the cores that lie
+// within the sum of the radii (the book's virtual spheres: the two closest core points, each the
+// centre of a sphere of its body's dilation radius). A local minimum pairs a feature of each core
+// (vertex, edge interior, face interior) whose closest points are stationary within both features
+// and whose connecting direction lies in the normal cone of the core at each: vertex-face,
+// vertex-edge, vertex-vertex and edge-edge pairs (face-face and face-edge pairs are stationary
+// only when parallel, and then the extremes of their contact patch are vertex-face, vertex-edge
+// and edge-edge pairs: the book's 3 to 6 points of two parallel faces, Sect. 4.2.2). Each feature
+// is tested once per body, by the face that owns it (the lowest-numbered face it belongs to), so
+// every feature pair is tested once; normal cones are tested with a small angular slack, so that
+// the points of nearly parallel faces fade out through their overlap, not through the cone.
+#include "mat3.hpp"
+#include "math.hpp"
+#include "vec3.hpp"
+
+namespace kdem {
+
+// A core vertex, with the unit directions of its edges (entries cone_first .. cone_first +
+// cone_count of the template's cone list). `convex`: every edge at it is convex or flat, so the
+// core is locally convex there and its normal cone is the set of directions d with d . e <= 0
+// for every edge direction e; a vertex where the core is not locally convex holds no local
+// minimum of the distance to a body outside (its tangent cone's hull is a half-space or more).
+struct CoreVertex {
+  Vec3 position;
+  int cone_first = 0, cone_count = 0;
+  int owner = 0;  // the face that tests this vertex
+  int convex = 0; // 1 or 0
+};
+
+// A core edge between two faces. `inward[k]`: in face k's plane, perpendicular to the edge,
+// pointing into face k (unit). The normal cone of a convex edge is the wedge of directions d
+// perpendicular to it with d . inward[k] <= 0 for both faces; a reflex edge has none.
+struct CoreEdge {
+  int vertex[2] = {0, 0};
+  Vec3 inward[2];
+  int owner = 0;
+  int convex = 0;
+};
+
+// A core face: corners counter-clockwise seen from outside, edges (v0 v1), (v1 v2), (v2 v0).
+struct CoreFace {
+  int vertex[3] = {0, 0, 0};
+  int edge[3] = {0, 0, 0};
+  Vec3 normal; // unit, outward
+};
+
+// A node of the bounding-sphere tree over the faces (root: node 0). A leaf holds one face:
+// left < 0 and right is the face; an inner node has children left and right.
+struct SphereNode {
+  Vec3 centre;
+  double radius = 0;
+  int left = -1, right = 0;
+};
+
+// Feature keys of a core of V vertices and E edges: vertex k is k, edge k is V + k, face k is
+// V + E + k.
+struct FeatureNumbering {
+  int vertices = 0, edges = 0;
+  KOKKOS_INLINE_FUNCTION int vertex(int k) const { return k; }
+  KOKKOS_INLINE_FUNCTION int edge(int k) const { return vertices + k; }
+  KOKKOS_INLINE_FUNCTION int face(int k) const { return vertices + edges + k; }
+};
+
+// Where the normal cones are tested with slack: a direction within `angle` (rad) of a cone
+// counts as in it. Enough to keep the points of exactly parallel features (which lie on cone
+// boundaries) from rounding; a larger slack also keeps near-minima, which differ from the
+// minimum by up to the slack in normal and by its square times the distance in overlap.
+struct ConeSlack {
+  double sine = 1e-6, cosine = 1.0 - 5e-13;
+  KOKKOS_INLINE_FUNCTION static ConeSlack of_angle(double angle) {
+    return ConeSlack{math::sin(angle), math::cos(angle)};
+  }
+};
+
+// Body B's frame in body A's: x_A = rotation x_B + translation.
+struct RelativePose {
+  Mat3 rotation;
+  Vec3 translation;
+  KOKKOS_INLINE_FUNCTION Vec3 point(Vec3 x_b) const { return rotation * x_b + translation; }
+  KOKKOS_INLINE_FUNCTION Vec3 direction_in_b(Vec3 d_a) const {
+    return transpose_times(rotation, d_a);
+  }
+};
+
+// One contact of two dilated cores (or of a core and a sphere or a wall), in the frame it was
+// computed in: normal from B towards A, the book's contact point (midway between the two
+// dilated surfaces on the line of the core points), overlap r_A + r_B - distance, and the
+// feature keys of each body.
+struct FeatureContact {
+  double overlap = 0;
+  Vec3 normal, point;
+  int feature_a = -1, feature_b = -1;
+};
+
+namespace dilated {
+
+// Normal cones (see CoreVertex, CoreEdge): whether the outward direction d (unit) of the core at
+// the feature lies in its cone, within the slack.
+template <class Core>
+KOKKOS_INLINE_FUNCTION bool in_vertex_cone(const Core& core, int v, Vec3 d, const ConeSlack& s) {
+  const CoreVertex& vertex = core.vertex(v);
+  if (!vertex.convex)
+    return false;
+  for (int m = 0; m < vertex.cone_count; ++m)
+    if (dot(d, core.cone(vertex.cone_first + m)) > s.sine)
+      return false;
+  return true;
+}
+
+template <class Core>
+KOKKOS_INLINE_FUNCTION bool in_edge_cone(const Core& core, int e, Vec3 d, const ConeSlack& s) {
+  const CoreEdge& edge = core.edge(e);
+  return edge.convex && dot(d, edge.inward[0]) <= s.sine && dot(d, edge.inward[1]) <= s.sine;
+}
+
+KOKKOS_INLINE_FUNCTION bool in_face_cone(Vec3 normal, Vec3 d, const ConeSlack& s) {
+  return dot(d, normal) >= s.cosine;
+}
+
+// The parameter of the point of segment [p, q] nearest to x, and whether it lies strictly inside.
+KOKKOS_INLINE_FUNCTION bool segment_interior(Vec3 p, Vec3 q, Vec3 x, double& t) {
+  const Vec3 pq = q - p;
+  const double length2 = norm2(pq);
+  if (!(length2 > 0))
+    return false;
+  t = dot(x - p, pq) / length2;
+  return t > 0 && t < 1;
+}
+
+// Whether the projection of x onto the plane of triangle (a, b, c) (unit normal n) lies strictly
+// inside it; the projection in `foot`.
+KOKKOS_INLINE_FUNCTION bool face_interior(Vec3 a, Vec3 b, Vec3 c, Vec3 n, Vec3 x, Vec3& foot) {
+  foot = x - dot(x - a, n) * n;
+  return dot(cross(b - a, foot - a), n) > 0 && dot(cross(c - b, foot - b), n) > 0 &&
+         dot(cross(a - c, foot - c), n) > 0;
+}
+
+// Parameters (s on [p1, q1], t on [p2, q2]) of the closest points of the two lines, and whether
+// both lie strictly inside their segments; parallel segments have no isolated closest pair.
+KOKKOS_INLINE_FUNCTION bool segments_interior(Vec3 p1, Vec3 q1, Vec3 p2, Vec3 q2, double& s,
+                                              double& t) {
+  const Vec3 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
+  const double a = dot(d1, d1), e = dot(d2, d2), b = dot(d1, d2);
+  const double c = dot(d1, r), f = dot(d2, r);
+  const double denominator = a * e - b * b;
+  if (!(denominator > 1e-12 * a * e))
+    return false;
+  s = (b * f - c * e) / denominator;
+  t = (b * s + f) / e;
+  return s > 0 && s < 1 && t > 0 && t < 1;
+}
+
+} // namespace dilated
+
+// A candidate pair of core points (pa on A, pb on B, in A's frame) with their features: the
+// contact it makes when the points lie within reach and the direction between them lies in both
+// normal cones (tested by the caller's `cones(direction_from_b_to_a)`).
+template <class Cones>
+KOKKOS_INLINE_FUNCTION bool feature_contact(Vec3 pa, Vec3 pb, double radius_a, double radius_b,
+                                            int feature_a, int feature_b, const Cones& cones,
+                                            FeatureContact& contact) {
+  const Vec3 between = pa - pb;
+  const double distance2 = norm2(between);
+  const double reach = radius_a + radius_b;
+  if (!(distance2 < reach * reach) || !(distance2 > 0))
+    return false;
+  const double distance = math::sqrt(distance2);
+  const Vec3 u = (1.0 / distance) * between;
+  if (!cones(u))
+    return false;
+  contact.overlap = reach - distance;
+  contact.normal = u;
+  contact.point = 0.5 * ((pa - radius_a * u) + (pb + radius_b * u));
+  contact.feature_a = feature_a;
+  contact.feature_b = feature_b;
+  return true;
+}
+
+// A core placed in a frame: its vertices as seen there (the template's for the body itself, or
+// turned and moved into the other body's frame), and directions turned back into its own frame
+// for the cone tests.
+template <class Core> struct PlacedCore {
+  const Core& core;
+  RelativePose pose; // this core's frame in the working frame
+  bool moved = false;
+
+  KOKKOS_INLINE_FUNCTION Vec3 vertex(int v) const {
+    const Vec3 x = core.vertex(v).position;
+    return moved ? pose.point(x) : x;
+  }
+  KOKKOS_INLINE_FUNCTION Vec3 own(Vec3 d) const { return moved ? pose.direction_in_b(d) : d; }
+  KOKKOS_INLINE_FUNCTION Vec3 face_normal(int f) const {
+    const Vec3 n = core.face(f).normal;
+    return moved ? pose.rotation * n : n;
+  }
+};
+
+// Tests every pair of a feature of face fa of A with one of face fb of B that these faces own, in
+// A's frame, and passes each contact to sink.add(contact).
+template <class CoreA, class CoreB, class Sink>
+KOKKOS_INLINE_FUNCTION void face_pair_contacts(const PlacedCore<CoreA>& a, int fa,
+                                               const PlacedCore<CoreB>& b, int fb,
+                                               const ConeSlack& slack, Sink& sink) {
+  using namespace dilated;
+  const CoreFace& face_a = a.core.face(fa);
+  const CoreFace& face_b = b.core.face(fb);
+  const double ra = a.core.dilation(), rb = b.core.dilation();
+  const FeatureNumbering keys_a = a.core.numbering(), keys_b = b.core.numbering();
+  Vec3 xa[3], xb[3];
+  for (int k = 0; k < 3; ++k) {
+    xa[k] = a.vertex(face_a.vertex[k]);
+    xb[k] = b.vertex(face_b.vertex[k]);
+  }
+  const Vec3 na = a.face_normal(fa), nb = b.face_normal(fb);
+  const auto a_vertex = [&](int v, Vec3 u) { return in_vertex_cone(a.core, v, a.own(-u), slack); };
+  const auto b_vertex = [&](int v, Vec3 u) { return in_vertex_cone(b.core, v, b.own(u), slack); };
+  const auto a_edge = [&](int e, Vec3 u) { return in_edge_cone(a.core, e, a.own(-u), slack); };
+  const auto b_edge = [&](int e, Vec3 u) { return in_edge_cone(b.core, e, b.own(u), slack); };
+  FeatureContact contact;
+  for (int k = 0; k < 3; ++k) {
+    const int v = face_a.vertex[k];
+    if (a.core.vertex(v).owner != fa)
+      continue;
+    Vec3 foot;
+    if (face_interior(xb[0], xb[1], xb[2], nb, xa[k], foot) &&
+        feature_contact(
+            xa[k], foot, ra, rb, keys_a.vertex(v), keys_b.face(fb),
+            [&](Vec3 u) { return in_face_cone(nb, u, slack) && a_vertex(v, u); }, contact))
+      sink.add(contact);
+    for (int m = 0; m < 3; ++m) {
+      const int e = face_b.edge[m];
+      double t;
+      if (b.core.edge(e).owner == fb && segment_interior(xb[m], xb[(m + 1) % 3], xa[k], t) &&
+          feature_contact(
+              xa[k], xb[m] + t * (xb[(m + 1) % 3] - xb[m]), ra, rb, keys_a.vertex(v),
+              keys_b.edge(e), [&](Vec3 u) { return b_edge(e, u) && a_vertex(v, u); }, contact))
+        sink.add(contact);
+      const int w = face_b.vertex[m];
+      if (b.core.vertex(w).owner == fb &&
+          feature_contact(
+              xa[k], xb[m], ra, rb, keys_a.vertex(v), keys_b.vertex(w),
+              [&](Vec3 u) { return b_vertex(w, u) && a_vertex(v, u); }, contact))
+        sink.add(contact);
+    }
+  }
+  for (int m = 0; m < 3; ++m) {
+    const int w = face_b.vertex[m];
+    if (b.core.vertex(w).owner != fb)
+      continue;
+    Vec3 foot;
+    if (face_interior(xa[0], xa[1], xa[2], na, xb[m], foot) &&
+        feature_contact(
+            foot, xb[m], ra, rb, keys_a.face(fa), keys_b.vertex(w),
+            [&](Vec3 u) { return in_face_cone(na, -u, slack) && b_vertex(w, u); }, contact))
+      sink.add(contact);
+    for (int k = 0; k < 3; ++k) {
+      const int e = face_a.edge[k];
+      double t;
+      if (a.core.edge(e).owner == fa && segment_interior(xa[k], xa[(k + 1) % 3], xb[m], t) &&
+          feature_contact(
+              xa[k] + t * (xa[(k + 1) % 3] - xa[k]), xb[m], ra, rb, keys_a.edge(e),
+              keys_b.vertex(w), [&](Vec3 u) { return a_edge(e, u) && b_vertex(w, u); }, contact))
+        sink.add(contact);
+    }
+  }
+  for (int k = 0; k < 3; ++k) {
+    const int e = face_a.edge[k];
+    if (a.core.edge(e).owner != fa)
+      continue;
+    for (int m = 0; m < 3; ++m) {
+      const int g = face_b.edge[m];
+      double s, t;
+      if (b.core.edge(g).owner == fb &&
+          segments_interior(xa[k], xa[(k + 1) % 3], xb[m], xb[(m + 1) % 3], s, t) &&
+          feature_contact(
+              xa[k] + s * (xa[(k + 1) % 3] - xa[k]), xb[m] + t * (xb[(m + 1) % 3] - xb[m]), ra, rb,
+              keys_a.edge(e), keys_b.edge(g), [&](Vec3 u) { return a_edge(e, u) && b_edge(g, u); },
+              contact))
+        sink.add(contact);
+    }
+  }
+}
+
+// The contacts of a sphere (centre x, radius r, in the core's frame) with face f's features that
+// it owns: the closest point of the face to x, when it is a feature the face owns and x lies in
+// that feature's normal cone.
+template <class Core, class Sink>
+KOKKOS_INLINE_FUNCTION void face_sphere_contacts(const Core& core, int f, Vec3 x, double radius,
+                                                 const ConeSlack& slack, Sink& sink) {
+  using namespace dilated;
+  const CoreFace& face = core.face(f);
+  const FeatureNumbering keys = core.numbering();
+  Vec3 c[3];
+  for (int k = 0; k < 3; ++k)
+    c[k] = core.vertex(face.vertex[k]).position;
+  FeatureContact contact;
+  const auto add = [&](Vec3 p, int key, auto in_cone) {
+    if (feature_contact(
+            p, x, core.dilation(), radius, key, 0, [&](Vec3 u) { return in_cone(-u); }, contact))
+      sink.add(contact);
+  };
+  Vec3 foot;
+  if (face_interior(c[0], c[1], c[2], face.normal, x, foot)) {
+    add(foot, keys.face(f), [&](Vec3 d) { return in_face_cone(face.normal, d, slack); });
+    return;
+  }
+  for (int k = 0; k < 3; ++k) {
+    const int v = face.vertex[k], e = face.edge[k];
+    double t;
+    if (core.edge(e).owner == f && segment_interior(c[k], c[(k + 1) % 3], x, t))
+      add(c[k] + t * (c[(k + 1) % 3] - c[k]), keys.edge(e),
+          [&](Vec3 d) { return in_edge_cone(core, e, d, slack); });
+    if (core.vertex(v).owner == f)
+      add(c[k], keys.vertex(v), [&](Vec3 d) { return in_vertex_cone(core, v, d, slack); });
+  }
+}
+
+// Depth of the fixed stacks of the tree walks: a tree of n faces built by median splits is about
+// log2(n) deep, and a walk of two trees holds at most the sum of their depths plus one.
+constexpr int sphere_tree_stack = 96;
+
+// Calls visit(face) for every face of the core whose node sphere comes within `reach` of x
+// (core frame). False when the stack overflowed (a tree deeper than the stack allows).
+template <class Core, class Visit>
+KOKKOS_INLINE_FUNCTION bool for_each_face_near(const Core& core, Vec3 x, double reach,
+                                               Visit&& visit) {
+  int stack[sphere_tree_stack];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const SphereNode& node = core.node(stack[--top]);
+    const double within = node.radius + reach;
+    if (!(norm2(x - node.centre) < within * within))
+      continue;
+    if (node.left < 0) {
+      visit(node.right);
+      continue;
+    }
+    if (top + 2 > sphere_tree_stack)
+      return false;
+    stack[top++] = node.right;
+    stack[top++] = node.left;
+  }
+  return true;
+}
+
+// Calls visit(face) for every face whose node sphere comes within `reach` of the plane through
+// `origin` with unit normal n, on its front side (signed distance < node radius + reach).
+template <class Core, class Visit>
+KOKKOS_INLINE_FUNCTION bool for_each_face_near_plane(const Core& core, Vec3 origin, Vec3 n,
+                                                     double reach, Visit&& visit) {
+  int stack[sphere_tree_stack];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const SphereNode& node = core.node(stack[--top]);
+    if (!(dot(node.centre - origin, n) < node.radius + reach))
+      continue;
+    if (node.left < 0) {
+      visit(node.right);
+      continue;
+    }
+    if (top + 2 > sphere_tree_stack)
+      return false;
+    stack[top++] = node.right;
+    stack[top++] = node.left;
+  }
+  return true;
+}
+
+// Calls visit(face_a, face_b) for every pair of faces whose node spheres (B's placed in A's frame
+// by `pose`) come within `reach`; the larger node of a pair is split first.
+template <class CoreA, class CoreB, class Visit>
+KOKKOS_INLINE_FUNCTION bool for_each_face_pair_near(const CoreA& a, const CoreB& b,
+                                                    const RelativePose& pose, double reach,
+                                                    Visit&& visit) {
+  int stack_a[sphere_tree_stack], stack_b[sphere_tree_stack];
+  int top = 0;
+  stack_a[top] = 0, stack_b[top] = 0, ++top;
+  while (top > 0) {
+    --top;
+    const int na = stack_a[top], nb = stack_b[top];
+    const SphereNode& node_a = a.node(na);
+    const SphereNode& node_b = b.node(nb);
+    const double within = node_a.radius + node_b.radius + reach;
+    if (!(norm2(pose.point(node_b.centre) - node_a.centre) < within * within))
+      continue;
+    const bool leaf_a = node_a.left < 0, leaf_b = node_b.left < 0;
+    if (leaf_a && leaf_b) {
+      visit(node_a.right, node_b.right);
+      continue;
+    }
+    if (top + 2 > sphere_tree_stack)
+      return false;
+    if (leaf_b || (!leaf_a && node_a.radius >= node_b.radius)) {
+      stack_a[top] = node_a.right, stack_b[top] = nb, ++top;
+      stack_a[top] = node_a.left, stack_b[top] = nb, ++top;
+    } else {
+      stack_a[top] = na, stack_b[top] = node_b.right, ++top;
+      stack_a[top] = na, stack_b[top] = node_b.left, ++top;
+    }
+  }
+  return true;
+}
+
+// The contacts of two dilated cores, in A's frame (B placed by `pose`), passed to sink.add.
+// False when a tree walk overflowed its stack (no contact is then missing from what was passed,
+// but some may not have been looked for).
+template <class CoreA, class CoreB, class Sink>
+KOKKOS_INLINE_FUNCTION bool dilated_pair_contacts(const CoreA& a, const CoreB& b,
+                                                  const RelativePose& pose, const ConeSlack& slack,
+                                                  Sink& sink) {
+  const PlacedCore<CoreA> placed_a{a, RelativePose{identity3(), Vec3{}}, false};
+  const PlacedCore<CoreB> placed_b{b, pose, true};
+  return for_each_face_pair_near(a, b, pose, a.dilation() + b.dilation(), [&](int fa, int fb) {
+    face_pair_contacts(placed_a, fa, placed_b, fb, slack, sink);
+  });
+}
+
+// The contacts of a dilated core with a sphere (centre x in the core's frame, radius r).
+template <class Core, class Sink>
+KOKKOS_INLINE_FUNCTION bool dilated_sphere_contacts(const Core& core, Vec3 x, double radius,
+                                                    const ConeSlack& slack, Sink& sink) {
+  return for_each_face_near(core, x, core.dilation() + radius,
+                            [&](int f) { face_sphere_contacts(core, f, x, radius, slack, sink); });
+}
+
+// The contacts of a dilated core with the front side of a plane (origin, unit normal n, in the
+// core's frame): its convex vertices within reach whose cone holds -n (feature_b = 0). A core
+// face or edge lying on the plane touches it with its vertices.
+template <class Core, class Sink>
+KOKKOS_INLINE_FUNCTION bool dilated_plane_contacts(const Core& core, Vec3 origin, Vec3 n,
+                                                   const ConeSlack& slack, Sink& sink) {
+  const FeatureNumbering keys = core.numbering();
+  const double r = core.dilation();
+  return for_each_face_near_plane(core, origin, n, r, [&](int f) {
+    const CoreFace& face = core.face(f);
+    for (int k = 0; k < 3; ++k) {
+      const int v = face.vertex[k];
+      if (core.vertex(v).owner != f)
+        continue;
+      const Vec3 x = core.vertex(v).position;
+      const double height = dot(x - origin, n);
+      if (!(height < r) || !dilated::in_vertex_cone(core, v, -n, slack))
+        continue;
+      FeatureContact contact;
+      contact.overlap = r - height;
+      contact.normal = n;
+      contact.point = x - (0.5 * (r + height)) * n;
+      contact.feature_a = keys.vertex(v);
+      contact.feature_b = 0;
+      sink.add(contact);
+    }
+  });
+}
+
+} // namespace kdem
