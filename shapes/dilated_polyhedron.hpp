@@ -131,12 +131,15 @@ KOKKOS_INLINE_FUNCTION bool segment_interior(Vec3 p, Vec3 q, Vec3 x, double& t) 
   return t > 0 && t < 1;
 }
 
-// Whether the projection of x onto the plane of triangle (a, b, c) (unit normal n) lies strictly
-// inside it; the projection in `foot`.
+// Whether the projection of x onto the plane of triangle (a, b, c) (unit normal n, either side)
+// lies strictly inside it; the projection in `foot`. The sides are tested against the corners'
+// own winding, so that a two-sided wall triangle whose normal was turned to a particle's side
+// tests alike.
 KOKKOS_INLINE_FUNCTION bool face_interior(Vec3 a, Vec3 b, Vec3 c, Vec3 n, Vec3 x, Vec3& foot) {
   foot = x - dot(x - a, n) * n;
-  return dot(cross(b - a, foot - a), n) > 0 && dot(cross(c - b, foot - b), n) > 0 &&
-         dot(cross(a - c, foot - c), n) > 0;
+  const Vec3 winding = cross(b - a, c - a);
+  return dot(cross(b - a, foot - a), winding) > 0 && dot(cross(c - b, foot - b), winding) > 0 &&
+         dot(cross(a - c, foot - c), winding) > 0;
 }
 
 // Parameters (s on [p1, q1], t on [p2, q2]) of the closest points of the two lines, and whether
@@ -456,6 +459,62 @@ KOKKOS_INLINE_FUNCTION bool dilated_plane_contacts(const Core& core, Vec3 origin
       sink.add(contact);
     }
   });
+}
+
+// The contacts of a dilated core with the inside of a cylinder (axis through `base` along the
+// unit `axis`, `radius`, `length` from the base; in the core's frame): its convex vertices within
+// the length whose distance to the curved wall is below the dilation and whose cone holds the
+// outward radial direction (feature_b = 0). The farthest point of a face or an edge from the axis
+// is one of its vertices, so vertices are every local minimum there.
+template <class Core, class Sink>
+KOKKOS_INLINE_FUNCTION bool dilated_cylinder_contacts(const Core& core, Vec3 base, Vec3 axis,
+                                                      double radius, double length,
+                                                      const ConeSlack& slack, Sink& sink) {
+  const FeatureNumbering keys = core.numbering();
+  const double r = core.dilation();
+  const auto radial = [&](Vec3 x) {
+    const Vec3 from_base = x - base;
+    return from_base - dot(from_base, axis) * axis;
+  };
+  int stack[sphere_tree_stack];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const SphereNode& node = core.node(stack[--top]);
+    if (!(radius - norm(radial(node.centre)) < node.radius + r))
+      continue;
+    if (node.left >= 0) {
+      if (top + 2 > sphere_tree_stack)
+        return false;
+      stack[top++] = node.right;
+      stack[top++] = node.left;
+      continue;
+    }
+    const CoreFace& face = core.face(node.right);
+    for (int k = 0; k < 3; ++k) {
+      const int v = face.vertex[k];
+      if (core.vertex(v).owner != node.right)
+        continue;
+      const Vec3 x = core.vertex(v).position;
+      const double along = dot(x - base, axis);
+      const Vec3 out = radial(x);
+      const double rho = norm(out);
+      const double gap = radius - rho;
+      if (!(gap < r) || !(along >= 0 && along <= length) || !(rho > 0))
+        continue;
+      const Vec3 outward = (1.0 / rho) * out;
+      if (!dilated::in_vertex_cone(core, v, outward, slack))
+        continue;
+      FeatureContact contact;
+      contact.overlap = r - gap;
+      contact.normal = -outward;
+      contact.point = x + (0.5 * (r + gap)) * outward;
+      contact.feature_a = keys.vertex(v);
+      contact.feature_b = 0;
+      sink.add(contact);
+    }
+  }
+  return true;
 }
 
 } // namespace kdem

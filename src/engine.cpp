@@ -539,8 +539,9 @@ template <class Law> void Engine::State::compute_forces_of_families() {
     using A = typename decltype(tag_a)::type;
     using B = typename decltype(tag_b)::type;
     const int both = (1 << family_index_v<A, Families>) | (1 << family_index_v<B, Families>);
-    if ((present & both) == both)
-      compute_pair_type<A, B, Law>(c, family_rows.of_pair<A, B>());
+    if constexpr (pair_type_implemented<A, B>::value)
+      if ((present & both) == both)
+        compute_pair_type<A, B, Law>(c, family_rows.of_pair<A, B>());
   });
 }
 

@@ -122,6 +122,7 @@ struct Engine::State {
   void setup_materials();
   void setup_shapes();
   template <class F> void setup_family_shapes(std::vector<bool>& set_up);
+  void refuse_pairs_without_narrow_phase() const;
   void classify_families(const PairList& list);
   void setup_domain();
   void setup_walls();

@@ -2,6 +2,7 @@
 // registry (kernels/families/registry.hpp) because the scene loader is built once, without
 // Kokkos, for every backend; Engine setup refuses a device family missing here.
 #include "clump_scene.hpp"
+#include "dilated_polyhedron_scene.hpp"
 #include "family_scene.hpp"
 #include "poly_superquadric_scene.hpp"
 #include "superquadric_scene.hpp"
@@ -10,7 +11,7 @@ namespace kdem {
 
 const std::vector<FamilyScene>& family_scenes() {
   static const std::vector<FamilyScene> scenes{superquadric_scene(), poly_superquadric_scene(),
-                                               clump_scene()};
+                                               clump_scene(), dilated_polyhedron_scene()};
   return scenes;
 }
 

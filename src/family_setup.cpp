@@ -24,6 +24,7 @@ void Engine::State::setup_shapes() {
       throw std::runtime_error(scene.source_file + ": shape '" + scene.shapes[k].name +
                                "' is of the family '" + scene.shapes[k].family +
                                "', which this build of the engine does not have");
+  refuse_pairs_without_narrow_phase();
   std::vector<int> template_of_shape{0}, features_of_shape{1};
   family_of_shape = {family_index_v<SphereFamily, Families>};
   for (const ShapeTemplate& t : shape_templates) {
@@ -48,6 +49,23 @@ void Engine::State::setup_shapes() {
     source_shape.push_back(id);
     mark_family_present(id);
   }
+}
+
+// A scene whose shapes hold two families whose pair type has no narrow phase yet cannot run.
+void Engine::State::refuse_pairs_without_narrow_phase() const {
+  int held = 0;
+  for (const ShapeTemplate& t : shape_templates)
+    held |= 1 << t.family;
+  for_each_pair_type<Families>([&](auto tag_a, auto tag_b) {
+    using A = typename decltype(tag_a)::type;
+    using B = typename decltype(tag_b)::type;
+    const int both = (1 << family_index_v<A, Families>) | (1 << family_index_v<B, Families>);
+    if (!pair_type_implemented<A, B>::value && (held & both) == both)
+      throw std::runtime_error(scene.source_file + ": shapes of the families '" + A::name +
+                               "' and '" + B::name +
+                               "' cannot share a scene yet: contact between them is not "
+                               "implemented");
+  });
 }
 
 // The scene's shapes of family F get templates from F's setup hook, rows in scene order.

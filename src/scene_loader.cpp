@@ -450,6 +450,8 @@ void read_wall_cylinder(const Value& value, WallConfig& wall) {
   wall.length = positive(map.get("length"), "metres");
 }
 
+} // namespace
+
 std::string existing_mesh_file(const Value& value) {
   const std::string expectation =
       "the path of an existing STL or OBJ file (relative to the scene file's folder)";
@@ -464,6 +466,8 @@ std::string existing_mesh_file(const Value& value) {
     value.expected(expectation, "the name ends in neither .stl nor .obj");
   return resolved.string();
 }
+
+namespace {
 
 void read_mesh(const Value& value, WallConfig& wall) {
   const Mapping map(value, {"file", "scale", "translate"});

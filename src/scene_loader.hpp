@@ -7,6 +7,10 @@
 
 namespace kdem {
 
+namespace scene_yaml {
+class Value;
+}
+
 // A scene file that cannot be used. what() reads
 //   FILE:LINE:COL: KEY.PATH: expected ..., got ...
 // with 1-based line and column; errors about the file as a whole (missing, unreadable) carry no
@@ -34,5 +38,9 @@ SceneConfig load_scene(const std::string& path);
 // in SceneConfig::source_file, `base_dir` is the folder relative mesh files are resolved against.
 SceneConfig load_scene_from_string(const std::string& yaml_text, const std::string& display_name,
                                    const std::string& base_dir);
+
+// The absolute path of the existing STL or OBJ file that a scene value names (relative paths
+// from the scene file's folder); a SceneError at the value where there is none.
+std::string existing_mesh_file(const scene_yaml::Value& value);
 
 } // namespace kdem

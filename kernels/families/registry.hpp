@@ -5,16 +5,29 @@
 // A new family is added here, at the end of the list (docs/architecture.md, "Adding a shape
 // family").
 #include "../clump/family.hpp"
+#include "../dilated_polyhedron/family.hpp"
 #include "../poly_superquadric/family.hpp"
 #include "../superquadric/family.hpp"
+#include <type_traits>
+
 #include "contact_context.hpp"
 #include "sphere.hpp"
 
 namespace kdem {
 
-using Families = FamilyList<SphereFamily, SuperquadricFamily, PolySuperquadricFamily, ClumpFamily>;
+using Families = FamilyList<SphereFamily, SuperquadricFamily, PolySuperquadricFamily, ClumpFamily,
+                            DilatedPolyhedronFamily>;
 using ContactContext = ContactContextOf<Families>;
 using EngineFamilyRows = FamilyRows<Families>;
+
+// Pair types whose narrow phase is not written yet: no kernel exists for them, and the engine
+// refuses a scene whose shapes hold both families (Engine::State::setup_shapes).
+template <class A, class B> struct pair_type_implemented : std::true_type {};
+template <>
+struct pair_type_implemented<SuperquadricFamily, DilatedPolyhedronFamily> : std::false_type {};
+template <>
+struct pair_type_implemented<PolySuperquadricFamily, DilatedPolyhedronFamily> : std::false_type {};
+template <> struct pair_type_implemented<ClumpFamily, DilatedPolyhedronFamily> : std::false_type {};
 
 // The typed kernels, declared here and instantiated once per pair type and per family in the
 // translation units of kernels/pairs/ (so that they compile in parallel, and the engine's own
