@@ -326,18 +326,16 @@ KOKKOS_INLINE_FUNCTION void face_sphere_contacts(const Core& core, int f, Vec3 x
 // log2(n) deep, and a walk of two trees holds at most the sum of their depths plus one.
 constexpr int sphere_tree_stack = 96;
 
-// Calls visit(face) for every face of the core whose node sphere comes within `reach` of x
-// (core frame). False when the stack overflowed (a tree deeper than the stack allows).
-template <class Core, class Visit>
-KOKKOS_INLINE_FUNCTION bool for_each_face_near(const Core& core, Vec3 x, double reach,
-                                               Visit&& visit) {
+// Calls visit(face) for every face whose tree nodes, from the root down to its leaf, all pass
+// near(node). False when the stack overflowed (a tree deeper than the stack allows).
+template <class Core, class Near, class Visit>
+KOKKOS_INLINE_FUNCTION bool for_each_face_where(const Core& core, const Near& near, Visit&& visit) {
   int stack[sphere_tree_stack];
   int top = 0;
   stack[top++] = 0;
   while (top > 0) {
     const SphereNode& node = core.node(stack[--top]);
-    const double within = node.radius + reach;
-    if (!(norm2(x - node.centre) < within * within))
+    if (!near(node))
       continue;
     if (node.left < 0) {
       visit(node.right);
@@ -351,28 +349,29 @@ KOKKOS_INLINE_FUNCTION bool for_each_face_near(const Core& core, Vec3 x, double 
   return true;
 }
 
+// Calls visit(face) for every face of the core whose node sphere comes within `reach` of x
+// (core frame).
+template <class Core, class Visit>
+KOKKOS_INLINE_FUNCTION bool for_each_face_near(const Core& core, Vec3 x, double reach,
+                                               Visit&& visit) {
+  return for_each_face_where(
+      core,
+      [&](const SphereNode& node) {
+        const double within = node.radius + reach;
+        return norm2(x - node.centre) < within * within;
+      },
+      visit);
+}
+
 // Calls visit(face) for every face whose node sphere comes within `reach` of the plane through
 // `origin` with unit normal n, on its front side (signed distance < node radius + reach).
 template <class Core, class Visit>
 KOKKOS_INLINE_FUNCTION bool for_each_face_near_plane(const Core& core, Vec3 origin, Vec3 n,
                                                      double reach, Visit&& visit) {
-  int stack[sphere_tree_stack];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const SphereNode& node = core.node(stack[--top]);
-    if (!(dot(node.centre - origin, n) < node.radius + reach))
-      continue;
-    if (node.left < 0) {
-      visit(node.right);
-      continue;
-    }
-    if (top + 2 > sphere_tree_stack)
-      return false;
-    stack[top++] = node.right;
-    stack[top++] = node.left;
-  }
-  return true;
+  return for_each_face_where(
+      core,
+      [&](const SphereNode& node) { return dot(node.centre - origin, n) < node.radius + reach; },
+      visit);
 }
 
 // Calls visit(face_a, face_b) for every pair of faces whose node spheres (B's placed in A's frame
@@ -476,24 +475,14 @@ KOKKOS_INLINE_FUNCTION bool dilated_cylinder_contacts(const Core& core, Vec3 bas
     const Vec3 from_base = x - base;
     return from_base - dot(from_base, axis) * axis;
   };
-  int stack[sphere_tree_stack];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const SphereNode& node = core.node(stack[--top]);
-    if (!(radius - norm(radial(node.centre)) < node.radius + r))
-      continue;
-    if (node.left >= 0) {
-      if (top + 2 > sphere_tree_stack)
-        return false;
-      stack[top++] = node.right;
-      stack[top++] = node.left;
-      continue;
-    }
-    const CoreFace& face = core.face(node.right);
+  const auto near_wall = [&](const SphereNode& node) {
+    return radius - norm(radial(node.centre)) < node.radius + r;
+  };
+  return for_each_face_where(core, near_wall, [&](int f) {
+    const CoreFace& face = core.face(f);
     for (int k = 0; k < 3; ++k) {
       const int v = face.vertex[k];
-      if (core.vertex(v).owner != node.right)
+      if (core.vertex(v).owner != f)
         continue;
       const Vec3 x = core.vertex(v).position;
       const double along = dot(x - base, axis);
@@ -513,8 +502,7 @@ KOKKOS_INLINE_FUNCTION bool dilated_cylinder_contacts(const Core& core, Vec3 bas
       contact.feature_b = 0;
       sink.add(contact);
     }
-  }
-  return true;
+  });
 }
 
 } // namespace kdem

@@ -505,7 +505,7 @@ TEST(SceneKeyErrors, UnknownTopLevelKeyListsTheAllowedKeysAndSuggestsOne) {
       minimal_scene_plus("durration: 1\n"), 14, "durration",
       "expected one of the keys time_step, duration, gravity, skin, sort_by_cell, domain, "
       "materials, interactions, shapes, superquadric_contact, poly_superquadric_contact, "
-      "clump_contact, "
+      "clump_contact, dilated_polyhedron_contact, "
       "particles, walls, outlets, output, checks, got the key "
       "\"durration\" (did you mean \"duration\"?)"));
 }
@@ -941,12 +941,13 @@ TEST(SceneShapes, AShapeNamesExactlyOneFamily) {
   const std::string none = "shapes:\n  - name: cube\n    tag: x\n";
   EXPECT_TRUE(fails_with(
       minimal_scene_plus(none), 16, "shapes[0].tag",
-      "expected one of the keys name, superquadric, poly_superquadric, clump, got the key "
-      "\"tag\""));
+      "expected one of the keys name, superquadric, poly_superquadric, clump, "
+      "dilated_polyhedron, got the key \"tag\""));
   std::string missing = "shapes:\n  - name: cube\n";
   EXPECT_TRUE(fails_with(
       minimal_scene_plus(missing), 15, "shapes[0]",
-      "expected exactly one of the keys superquadric, poly_superquadric, clump, got none"));
+      "expected exactly one of the keys superquadric, poly_superquadric, clump, "
+      "dilated_polyhedron, got none"));
 }
 
 TEST(SceneShapes, UnknownShapeNamesTheDefinedOnes) {
