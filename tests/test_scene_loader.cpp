@@ -939,15 +939,13 @@ TEST(SceneShapes, SpheresHaveNoShape) {
 
 TEST(SceneShapes, AShapeNamesExactlyOneFamily) {
   const std::string none = "shapes:\n  - name: cube\n    tag: x\n";
-  EXPECT_TRUE(fails_with(
-      minimal_scene_plus(none), 16, "shapes[0].tag",
-      "expected one of the keys name, superquadric, poly_superquadric, clump, "
-      "dilated_polyhedron, got the key \"tag\""));
+  EXPECT_TRUE(fails_with(minimal_scene_plus(none), 16, "shapes[0].tag",
+                         "expected one of the keys name, superquadric, poly_superquadric, clump, "
+                         "dilated_polyhedron, got the key \"tag\""));
   std::string missing = "shapes:\n  - name: cube\n";
-  EXPECT_TRUE(fails_with(
-      minimal_scene_plus(missing), 15, "shapes[0]",
-      "expected exactly one of the keys superquadric, poly_superquadric, clump, "
-      "dilated_polyhedron, got none"));
+  EXPECT_TRUE(fails_with(minimal_scene_plus(missing), 15, "shapes[0]",
+                         "expected exactly one of the keys superquadric, poly_superquadric, clump, "
+                         "dilated_polyhedron, got none"));
 }
 
 TEST(SceneShapes, UnknownShapeNamesTheDefinedOnes) {
