@@ -288,6 +288,35 @@ KOKKOS_INLINE_FUNCTION void face_pair_contacts(const PlacedCore<CoreA>& a, int f
   }
 }
 
+// The contacts of a sphere (centre x, radius r, in the core's frame) with the edges and vertices
+// of face f that it owns: the closest point of the face's boundary to x, when x lies in that
+// feature's normal cone.
+template <class Core, class Sink>
+KOKKOS_INLINE_FUNCTION void face_boundary_contacts(const Core& core, int f, Vec3 x, double radius,
+                                                   const ConeSlack& slack, Sink& sink) {
+  using namespace dilated;
+  const CoreFace& face = core.face(f);
+  const FeatureNumbering keys = core.numbering();
+  Vec3 c[3];
+  for (int k = 0; k < 3; ++k)
+    c[k] = core.vertex(face.vertex[k]).position;
+  FeatureContact contact;
+  for (int k = 0; k < 3; ++k) {
+    const int v = face.vertex[k], e = face.edge[k];
+    double t;
+    if (core.edge(e).owner == f && segment_interior(c[k], c[(k + 1) % 3], x, t) &&
+        feature_contact(
+            c[k] + t * (c[(k + 1) % 3] - c[k]), x, core.dilation(), radius, keys.edge(e), 0,
+            [&](Vec3 u) { return in_edge_cone(core, e, -u, slack); }, contact))
+      sink.add(contact);
+    if (core.vertex(v).owner == f &&
+        feature_contact(
+            c[k], x, core.dilation(), radius, keys.vertex(v), 0,
+            [&](Vec3 u) { return in_vertex_cone(core, v, -u, slack); }, contact))
+      sink.add(contact);
+  }
+}
+
 // The contacts of a sphere (centre x, radius r, in the core's frame) with face f's features that
 // it owns: the closest point of the face to x, when it is a feature the face owns and x lies in
 // that feature's normal cone.
@@ -296,30 +325,19 @@ KOKKOS_INLINE_FUNCTION void face_sphere_contacts(const Core& core, int f, Vec3 x
                                                  const ConeSlack& slack, Sink& sink) {
   using namespace dilated;
   const CoreFace& face = core.face(f);
-  const FeatureNumbering keys = core.numbering();
   Vec3 c[3];
   for (int k = 0; k < 3; ++k)
     c[k] = core.vertex(face.vertex[k]).position;
-  FeatureContact contact;
-  const auto add = [&](Vec3 p, int key, auto in_cone) {
-    if (feature_contact(
-            p, x, core.dilation(), radius, key, 0, [&](Vec3 u) { return in_cone(-u); }, contact))
-      sink.add(contact);
-  };
   Vec3 foot;
-  if (face_interior(c[0], c[1], c[2], face.normal, x, foot)) {
-    add(foot, keys.face(f), [&](Vec3 d) { return in_face_cone(face.normal, d, slack); });
+  if (!face_interior(c[0], c[1], c[2], face.normal, x, foot)) {
+    face_boundary_contacts(core, f, x, radius, slack, sink);
     return;
   }
-  for (int k = 0; k < 3; ++k) {
-    const int v = face.vertex[k], e = face.edge[k];
-    double t;
-    if (core.edge(e).owner == f && segment_interior(c[k], c[(k + 1) % 3], x, t))
-      add(c[k] + t * (c[(k + 1) % 3] - c[k]), keys.edge(e),
-          [&](Vec3 d) { return in_edge_cone(core, e, d, slack); });
-    if (core.vertex(v).owner == f)
-      add(c[k], keys.vertex(v), [&](Vec3 d) { return in_vertex_cone(core, v, d, slack); });
-  }
+  FeatureContact contact;
+  if (feature_contact(
+          foot, x, core.dilation(), radius, core.numbering().face(f), 0,
+          [&](Vec3 u) { return in_face_cone(face.normal, -u, slack); }, contact))
+    sink.add(contact);
 }
 
 // Depth of the fixed stacks of the tree walks: a tree of n faces built by median splits is about

@@ -30,9 +30,10 @@ struct DilatedPairState {
 
   // The contacts found in the frame (rotation, origin) turned into the world and into `found`,
   // with their weights; normals from b towards a as found (the caller's frame convention).
-  template <int K>
+  // radius_of(contact): the contact's Hertz radius.
+  template <int K, class RadiusOf>
   KOKKOS_INLINE_FUNCTION PairOutcome finish(const DeepestContacts<K>& deepest, const Mat3& rotation,
-                                            Vec3 origin, double effective_radius,
+                                            Vec3 origin, const RadiusOf& radius_of,
                                             PairContacts<K>& found) const {
     if (deepest.count == 0)
       return PairOutcome::apart;
@@ -41,7 +42,7 @@ struct DilatedPairState {
       PairContact& contact = found.add();
       contact.geometry =
           ContactGeometry{true, f.overlap, rotation * f.normal, origin + rotation * f.point};
-      contact.effective_radius = effective_radius;
+      contact.effective_radius = radius_of(f);
       contact.feature_a = f.feature_a;
       contact.feature_b = f.feature_b;
     }
@@ -85,7 +86,8 @@ struct NarrowPhase<SphereFamily, DilatedPolyhedronFamily> : DilatedPairState, Ev
     }
     const double radius = equivalent_series_radius(
         p.radius(r.a), DilatedPolyhedronFamily::equivalent_radius(table, shapes, p, r.b));
-    return finish(deepest, rotation, origin, radius, found);
+    return finish(
+        deepest, rotation, origin, [&](const FeatureContact&) { return radius; }, found);
   }
 };
 
@@ -118,7 +120,8 @@ struct NarrowPhase<DilatedPolyhedronFamily, DilatedPolyhedronFamily> : DilatedPa
     const double radius =
         equivalent_series_radius(DilatedPolyhedronFamily::equivalent_radius(table, shapes, p, r.a),
                                  DilatedPolyhedronFamily::equivalent_radius(table, shapes, p, r.b));
-    return finish(deepest, rotation_a, origin, radius, found);
+    return finish(
+        deepest, rotation_a, origin, [&](const FeatureContact&) { return radius; }, found);
   }
 };
 
