@@ -135,9 +135,10 @@ void expect_same_contacts(const DilatedCore& core, Vec3 centre, double radius, W
     // Face contacts come from the support point: exact. At an edge or a vertex GJK's closest
     // point carries its tangential error, sqrt(2 R tol) = 4.5e-7 for R = 1 and tol = 1e-13,
     // magnified in the normal by R / d (d: the core point's distance to the body, down to a
-    // fraction of the dilation): stated 1e-4 on the normal and 1e-5 on the point; the distance
-    // itself, and so the overlap, to the tolerance (1e-9 stated).
-    EXPECT_NEAR(s.overlap, g.overlap, 1e-9);
+    // fraction of the dilation): stated 1e-4 on the normal and 1e-5 on the point. The distance,
+    // and so the overlap, within the tolerance where GJK converges; where rounding stops |v|
+    // from decreasing first it stops there (measured up to 1.7e-9 with -O3): 1e-8 stated.
+    EXPECT_NEAR(s.overlap, g.overlap, 1e-8);
     worst.normal = std::max(worst.normal, norm(s.normal - g.normal));
     worst.point = std::max(worst.point, norm(s.point - g.point));
   }
