@@ -1,8 +1,9 @@
 #pragma once
 // The dilated-polyhedron family's scene keys (dilated_polyhedron_scene.cpp): a shape entry
-// `dilated_polyhedron: {mesh, scale, dilation_radius}` (book chapter 4: a closed triangle mesh,
-// convex or not, swept by a sphere of the dilation radius) and the `dilated_polyhedron_contact`
-// settings.
+// `dilated_polyhedron: {mesh | superquadric | harmonics, nodes, convex_hull, simplify_to, scale,
+// dilation_radius, mass_precision}` (book chapter 4: a closed triangle mesh, convex or not, swept
+// by a sphere of the dilation radius; the core read from a file or built by src/core_builders.hpp)
+// and the `dilated_polyhedron_contact` settings.
 #include <array>
 #include <string>
 #include <vector>
@@ -12,9 +13,9 @@
 namespace kdem {
 
 struct DilatedPolyhedronShapeParameters : FamilyShapeParameters {
-  std::string mesh_file;                     // absolute path
-  std::vector<std::array<double, 3>> points; // m, the file's coordinates times `scale`
-  std::vector<std::array<int, 3>> triangles; // welded, as in the file
+  std::string mesh_file;                     // absolute path, or "(how the core was built)"
+  std::vector<std::array<double, 3>> points; // m, the core's coordinates times `scale`
+  std::vector<std::array<int, 3>> triangles; // welded, as in the file or as built
   double dilation_radius = 0;                // m
   double mass_precision = 1e-4;              // relative precision of the mass properties
   // The smallest half-width of the core's box plus the dilation radius.
