@@ -20,12 +20,16 @@
 namespace kdem {
 
 // A core vertex, with the unit directions of its edges (entries cone_first .. cone_first +
-// cone_count of the template's cone list). `convex`: every edge at it is convex or flat, so the
-// core is locally convex there and its normal cone is the set of directions d with d . e <= 0
-// for every edge direction e; a vertex where the core is not locally convex holds no local
-// minimum of the distance to a body outside (its tangent cone's hull is a half-space or more).
+// cone_count of the template's cone list). A point x = vertex + t d (t > 0) has the vertex as a
+// local minimum of its distance to the surface when d . e <= 0 for every edge direction e (the
+// faces at the vertex then lie behind the plane through it normal to d), and lies outside when
+// d . outward > 0 (outward: the angle-weighted pseudonormal, which signs the distance at a
+// closest point, Baerentzen and Aanaes 2005). `convex`: every edge at it is convex or flat, so
+// that the first condition implies the second; a saddle vertex of a fine, nearly flat mesh can
+// be a closest point too, and is tested with both.
 struct CoreVertex {
   Vec3 position;
+  Vec3 outward; // unit
   int cone_first = 0, cone_count = 0;
   int owner = 0;  // the face that tests this vertex
   int convex = 0; // 1 or 0
@@ -103,7 +107,7 @@ namespace dilated {
 template <class Core>
 KOKKOS_INLINE_FUNCTION bool in_vertex_cone(const Core& core, int v, Vec3 d, const ConeSlack& s) {
   const CoreVertex& vertex = core.vertex(v);
-  if (!vertex.convex)
+  if (!vertex.convex && !(dot(d, vertex.outward) > 0))
     return false;
   for (int m = 0; m < vertex.cone_count; ++m)
     if (dot(d, core.cone(vertex.cone_first + m)) > s.sine)

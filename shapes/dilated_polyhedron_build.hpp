@@ -307,6 +307,8 @@ inline DilatedCore build_dilated_core(std::vector<Vec3> points,
     }
   }
 
+  for (std::size_t v = 0; v < vertex_count; ++v)
+    core.vertices[v].outward = unit(core.vertex_pseudonormals[v]);
   TreeBuilder tree{core.vertices, core.faces, {}, {}};
   for (const CoreFace& face : core.faces)
     tree.centroids.push_back((1.0 / 3.0) * (points[std::size_t(face.vertex[0])] +

@@ -189,7 +189,7 @@ inline BodyMassProperties dilated_mass_properties(const DilatedCore& core,
   const int root = 2;
   BodyMassProperties before, now;
   for (int level = options.coarsest_level; level <= options.finest_level; ++level) {
-    dilated_mass::OctreeIntegral integral{core, reference, level - root};
+    dilated_mass::OctreeIntegral integral{core, reference, level - root, {}, 0};
     const double h = edge / (1 << root);
     const int n = 1 << root;
     for (int k = 0; k < n; ++k)

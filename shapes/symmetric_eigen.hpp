@@ -6,6 +6,7 @@
 // particles), and every eigenvector comes out orthonormal. Host code (plain inline C++), used once
 // per particle template; no branch depends on anything but the input, so the same matrix gives the
 // same bits.
+#include <algorithm>
 #include <cmath>
 
 #include "mat3.hpp"
@@ -111,8 +112,8 @@ inline SymmetricEigen symmetric_eigen(const Mat3& m) {
 // then principal (rounding of closed forms is ~1e-16 of it).
 constexpr double diagonal_tolerance = 1e-12;
 
-inline bool is_diagonal(const Mat3& tensor) {
-  const double scale = diagonal_tolerance * trace(tensor);
+inline bool is_diagonal(const Mat3& tensor, double tolerance = diagonal_tolerance) {
+  const double scale = tolerance * trace(tensor);
   return std::fabs(tensor.m[0][1]) <= scale && std::fabs(tensor.m[0][2]) <= scale &&
          std::fabs(tensor.m[1][2]) <= scale;
 }
@@ -121,8 +122,13 @@ inline bool is_diagonal(const Mat3& tensor) {
 // signed to lie closest to the frame it is written in, so that a body's principal frame is its own
 // frame (a poly-superquadric's octant frame, a clump's scene frame) wherever that is principal,
 // and turns away from it only as far as the products of inertia make it. Right-handed.
-inline Mat3 principal_frame_nearest(const Mat3& tensor, const Mat3& eigenvectors) {
-  if (is_diagonal(tensor))
+// `precision`: the relative error of a numerically integrated tensor (in units of its trace);
+// products of inertia within it are noise, and the body's own frame is kept (an axisymmetric
+// body's two equal moments would otherwise let the noise turn its frame about the axis by any
+// angle).
+inline Mat3 principal_frame_nearest(const Mat3& tensor, const Mat3& eigenvectors,
+                                    double precision = 0) {
+  if (is_diagonal(tensor, std::max(diagonal_tolerance, precision)))
     return identity3();
   Mat3 axes;
   bool taken[3] = {false, false, false};

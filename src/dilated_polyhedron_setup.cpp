@@ -32,7 +32,8 @@ PrincipalCore principal_core(const ShapeConfig& shape) {
     DilatedMassOptions options;
     options.precision = config.mass_precision;
     const BodyMassProperties mass = dilated_mass_properties(given, options);
-    const Mat3 axes = principal_frame_nearest(mass.inertia_per_density, mass.principal_axes);
+    const Mat3 axes = principal_frame_nearest(mass.inertia_per_density, mass.principal_axes,
+                                              mass.relative_precision);
     const Mat3 to_principal = transpose(axes);
     for (Vec3& p : points)
       p = to_principal * (p - mass.centroid);

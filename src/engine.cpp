@@ -767,6 +767,54 @@ std::vector<WallSurface> Engine::wall_surfaces() const {
   return surfaces;
 }
 
+std::vector<ContactForceRecord> Engine::contact_forces() const {
+  const State& s = *state_;
+  std::vector<ContactForceRecord> records;
+  const int n = s.particles.count;
+  if (n == 0)
+    return records;
+  const std::vector<std::int64_t> id = flatten_to_host(s.particles.id, n);
+  const auto nonzero = [](const double* f) { return f[0] != 0 || f[1] != 0 || f[2] != 0; };
+  if (s.pairs.pair_count > 0) {
+    const std::vector<int> pair_i = flatten_to_host(s.pairs.pair_i, s.pairs.pair_count);
+    const std::vector<int> pair_j = flatten_to_host(s.pairs.pair_j, s.pairs.pair_count);
+    const std::vector<double> force = flatten_to_host(s.pairs.force_on_i, s.pairs.pair_count);
+    for (int k = 0; k < s.pairs.pair_count; ++k) {
+      const double* f = &force[3 * std::size_t(k)];
+      if (nonzero(f))
+        records.push_back(
+            {id[std::size_t(pair_i[k])], id[std::size_t(pair_j[k])], -1, {f[0], f[1], f[2]}});
+    }
+  }
+  const WallContactList& walls = s.wall_contacts;
+  if (walls.entry_count > 0) {
+    const std::vector<int> row_start = flatten_to_host(walls.row_start, n + 1);
+    const std::vector<int> element = flatten_to_host(walls.element, walls.entry_count);
+    const std::vector<double> force = flatten_to_host(walls.force_on_i, walls.entry_count);
+    const std::vector<int> wall_of = flatten_to_host(s.walls.elements.wall, s.walls.elements.count);
+    // An entry touches when its first slot does (as sum_forces reads it); its force is not
+    // written otherwise.
+    const std::vector<double> overlap = flatten_to_host(walls.overlap, walls.slot_count);
+    const std::vector<int> slot_start =
+        walls.contact_start.extent(0) == 0
+            ? std::vector<int>{}
+            : flatten_to_host(walls.contact_start, walls.entry_count + 1);
+    const auto first_slot = [&](int k) {
+      return slot_start.empty() ? std::size_t(k) : std::size_t(slot_start[std::size_t(k)]);
+    };
+    for (int i = 0; i < n; ++i)
+      for (int k = row_start[std::size_t(i)]; k < row_start[std::size_t(i) + 1]; ++k) {
+        const double* f = &force[3 * std::size_t(k)];
+        if (overlap[first_slot(k)] != 0 && nonzero(f))
+          records.push_back({id[std::size_t(i)],
+                             -1,
+                             wall_of[std::size_t(element[std::size_t(k)])],
+                             {f[0], f[1], f[2]}});
+      }
+  }
+  return records;
+}
+
 // The radius the time step is sized for: the smallest particle's (of a shaped body, that of the
 // sphere of equal volume, not its bounding radius); 0 when the scene has no particles yet.
 double Engine::State::time_step_radius() const {

@@ -116,6 +116,9 @@ public:
   std::vector<std::string> source_names() const;
   std::vector<std::string> tag_names() const;
   std::vector<WallSurface> wall_surfaces() const;
+  // Every pair and every particle-wall element touching at the last step, with its force; a
+  // pair once, with the force on the particle listed first.
+  std::vector<ContactForceRecord> contact_forces() const;
 
   // Test and benchmark knobs.
   void set_rebuild_every_step(bool every_step);

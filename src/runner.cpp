@@ -136,6 +136,18 @@ std::string failure_json(const Engine& engine, const HealthReport& report) {
   return out.str();
 }
 
+// One row per touching pair or particle-wall element: ids (partner -1 for a wall), the wall's
+// index in the scene (-1 for a pair) and the force on the particle `id`, N.
+std::string contact_forces_csv(const std::vector<ContactForceRecord>& records) {
+  std::ostringstream out;
+  out.precision(17);
+  out << "id,partner,wall,fx,fy,fz\n";
+  for (const ContactForceRecord& r : records)
+    out << r.id << ',' << r.partner << ',' << r.wall << ',' << r.force[0] << ',' << r.force[1]
+        << ',' << r.force[2] << '\n';
+  return out.str();
+}
+
 class OutputWriter {
 public:
   OutputWriter(const fs::path& directory, const SceneConfig& scene, const Engine& engine, double dt)
@@ -143,6 +155,7 @@ public:
         surfaces_pvd_(directory, "shapes"), walls_pvd_(directory, "walls"),
         series_(directory / "series.csv", series_columns(engine)),
         frame_every_(steps_per(scene.output.frame_interval, dt, 0)),
+        contact_forces_(scene.output.contact_forces),
         series_every_(steps_per(scene.output.series_interval, dt, 100)),
         checkpoint_every_(steps_per(scene.output.checkpoint_interval, dt, 0)) {
     fs::create_directories(directory / "frames");
@@ -200,6 +213,9 @@ private:
       write_particle_surfaces_vtp(directory_ / surface_file, snapshot);
       surfaces_pvd_.add(engine.time(), surface_file);
     }
+    if (contact_forces_)
+      write_text_atomically(directory_ / ("frames/" + numbered("contacts", step, ".csv")),
+                            contact_forces_csv(engine.contact_forces()));
     const std::vector<WallSurface> walls = engine.wall_surfaces();
     for (std::size_t w = 0; w < walls.size(); ++w) {
       const std::string wall_file = "frames/" + numbered("wall" + std::to_string(w), step, ".vtp");
@@ -221,7 +237,9 @@ private:
   fs::path directory_;
   PvdSeries particles_pvd_, surfaces_pvd_, walls_pvd_;
   SeriesCsv series_;
-  std::int64_t frame_every_, series_every_, checkpoint_every_;
+  std::int64_t frame_every_;
+  bool contact_forces_;
+  std::int64_t series_every_, checkpoint_every_;
   Diagnostics last_;
   double largest_overlap_ = 0;
   int rows_since_flush_ = 0;

@@ -153,6 +153,7 @@ struct OutputConfig {
   double series_interval = 0;     // s between series.csv rows; 0 = every 100 steps
   double checkpoint_interval = 0; // s between HDF5 checkpoints; 0 = only at the end
   bool final_checkpoint = true;
+  bool contact_forces = false; // with each frame, the contact forces (frames/contacts_*.csv)
 };
 
 // When a run is stopped as gone wrong (checked every `interval` steps; see docs/scene.md,

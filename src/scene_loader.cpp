@@ -544,7 +544,7 @@ OutletConfig read_outlet(const Value& value, UniqueNames& names) {
 
 OutputConfig read_output(const Value& value) {
   const Mapping map(value, {"directory", "frame_interval", "series_interval", "checkpoint_interval",
-                            "final_checkpoint"});
+                            "final_checkpoint", "contact_forces"});
   OutputConfig output;
   if (auto value_found = map.find("directory"))
     output.directory = text(*value_found, "a folder path");
@@ -556,6 +556,8 @@ OutputConfig read_output(const Value& value) {
     output.checkpoint_interval = non_negative(*value_found, "seconds");
   if (auto value_found = map.find("final_checkpoint"))
     output.final_checkpoint = boolean(*value_found);
+  if (auto value_found = map.find("contact_forces"))
+    output.contact_forces = boolean(*value_found);
   return output;
 }
 

@@ -46,6 +46,15 @@ struct ParticleSnapshot {
   std::size_t size() const { return radius.size(); }
 };
 
+// The contact force at the last step on the particle of id `id`: from the particle of id
+// `partner` (a touching pair: the sum of its contact points' forces), or from a wall element
+// (partner -1, wall: the wall's index in the scene's list), N.
+struct ContactForceRecord {
+  std::int64_t id = 0, partner = -1;
+  int wall = -1;
+  double force[3] = {0, 0, 0};
+};
+
 // A wall's surface as triangles in world coordinates at one instant.
 struct WallSurface {
   std::string name;

@@ -204,68 +204,6 @@ TEST(DilatedMass, ShiftedCoreHasItsCentroidMoved) {
 
 // --- Contacts --------------------------------------------------------------------------------
 
-// The distance between two segments, by a ternary search along the first (the distance of its
-// points to the second segment is convex along it).
-double segment_distance(Vec3 p1, Vec3 q1, Vec3 p2, Vec3 q2) {
-  const auto to_segment = [&](Vec3 x) {
-    const Vec3 d = q2 - p2;
-    const double t = std::clamp(dot(x - p2, d) / norm2(d), 0.0, 1.0);
-    return norm(x - (p2 + t * d));
-  };
-  double lo = 0, hi = 1;
-  for (int it = 0; it < 200; ++it) {
-    const double m1 = lo + (hi - lo) / 3, m2 = hi - (hi - lo) / 3;
-    if (to_segment(p1 + m1 * (q1 - p1)) < to_segment(p1 + m2 * (q1 - p1)))
-      hi = m2;
-    else
-      lo = m1;
-  }
-  return to_segment(p1 + 0.5 * (lo + hi) * (q1 - p1));
-}
-
-// Whether segment [p, q] passes through triangle t.
-bool segment_pierces(Vec3 p, Vec3 q, const Vec3 (&t)[3]) {
-  const Vec3 n = cross(t[1] - t[0], t[2] - t[0]);
-  const double sp = dot(p - t[0], n), sq = dot(q - t[0], n);
-  if (sp * sq > 0 || sp == sq)
-    return false;
-  const Vec3 x = p + (sp / (sp - sq)) * (q - p);
-  for (int k = 0; k < 3; ++k)
-    if (dot(cross(t[(k + 1) % 3] - t[k], x - t[k]), n) < 0)
-      return false;
-  return true;
-}
-
-// The distance between two triangles: 0 where they intersect (an edge of one pierces the
-// other), else the smallest of the six point-triangle and nine segment-segment distances.
-double triangle_distance(const Vec3 (&a)[3], const Vec3 (&b)[3]) {
-  for (int k = 0; k < 3; ++k)
-    if (segment_pierces(a[k], a[(k + 1) % 3], b) || segment_pierces(b[k], b[(k + 1) % 3], a))
-      return 0;
-  double d = 1e300;
-  for (int k = 0; k < 3; ++k) {
-    d = std::min(d, norm(a[k] - triangle_query(b[0], b[1], b[2], a[k]).point));
-    d = std::min(d, norm(b[k] - triangle_query(a[0], a[1], a[2], b[k]).point));
-    for (int m = 0; m < 3; ++m)
-      d = std::min(d, segment_distance(a[k], a[(k + 1) % 3], b[m], b[(m + 1) % 3]));
-  }
-  return d;
-}
-
-double core_core_distance(const DilatedCore& a, const DilatedCore& b, const RelativePose& pose) {
-  double d = 1e300;
-  for (const CoreFace& fa : a.faces)
-    for (const CoreFace& fb : b.faces) {
-      Vec3 ta[3], tb[3];
-      for (int k = 0; k < 3; ++k) {
-        ta[k] = a.vertex(fa.vertex[k]).position;
-        tb[k] = pose.point(b.vertex(fb.vertex[k]).position);
-      }
-      d = std::min(d, triangle_distance(ta, tb));
-    }
-  return d;
-}
-
 const ConeSlack slack{};
 
 TEST(DilatedContact, SphereAgainstABoxMatchesTheDistanceToTheCore) {
