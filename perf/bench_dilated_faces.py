@@ -86,10 +86,16 @@ def main():
             f.write(scene(shape_entry(nodes), args.count, args.settle, os.path.join(args.work, name)))
         settled = run(args.kdem, path, os.path.join(args.work, name, "settle"))
         checkpoint = os.path.join(args.work, name, "settle", "checkpoint.h5")
+        # The same scene, its duration `--steps` steps longer: the restart runs those.
+        timed_path = os.path.join(args.work, name + "_timed.yaml")
+        with open(timed_path, "w") as f:
+            f.write(scene(shape_entry(nodes), args.count,
+                          args.settle + (args.steps + 0.5) * TIME_STEP,
+                          os.path.join(args.work, name)))
         rates = []
         for r in range(args.repeat):
-            timed = run(args.kdem, path, os.path.join(args.work, name, f"timed_{r}"),
-                        ("--restart", checkpoint, "--steps", str(args.steps)))
+            timed = run(args.kdem, timed_path, os.path.join(args.work, name, f"timed_{r}"),
+                        ("--restart", checkpoint))
             rates.append(timed["particle_steps_per_second"])
         rate = statistics.median(rates)
         rows.append({"nodes": nodes, "faces": 2 * nodes - 4 if nodes else 0,
