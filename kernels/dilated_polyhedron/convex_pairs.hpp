@@ -26,19 +26,6 @@ namespace kdem {
 // normal of an edge or vertex contact within about 1e-5 (tests/engine/test_dilated_convex.cpp).
 constexpr double dilated_convex_relative_tolerance = 1e-12;
 
-// Hands the contacts of one piece (found with the core as body A) on with the pair's order:
-// normals from the polyhedron (b) towards the piece (a), keys (piece, core feature).
-template <int K> struct PieceContactSink {
-  DeepestContacts<K>& deepest;
-  int piece = 0;
-  KOKKOS_INLINE_FUNCTION void add(FeatureContact c) const {
-    c.normal = -c.normal;
-    c.feature_b = c.feature_a;
-    c.feature_a = piece;
-    deepest.add(c);
-  }
-};
-
 template <class A> struct ConvexDilatedNarrowPhase : DilatedPairState, EveryRowOfTheType {
   static constexpr bool tallied = true;
   static constexpr int max_contacts = pair_contact_points<A, DilatedPolyhedronFamily>;

@@ -52,6 +52,19 @@ struct DilatedPairState {
   }
 };
 
+// Hands the contacts of one piece of body a (found with b's core as body A) on with the pair's
+// order: normals from the polyhedron (b) towards the piece, keys (piece, core feature).
+template <int K> struct PieceContactSink {
+  DeepestContacts<K>& deepest;
+  int piece = 0;
+  KOKKOS_INLINE_FUNCTION void add(FeatureContact c) const {
+    c.normal = -c.normal;
+    c.feature_b = c.feature_a;
+    c.feature_a = piece;
+    deepest.add(c);
+  }
+};
+
 KOKKOS_INLINE_FUNCTION double equivalent_series_radius(double ri, double rj) {
   return ri * rj / (ri + rj);
 }
@@ -75,15 +88,9 @@ struct NarrowPhase<SphereFamily, DilatedPolyhedronFamily> : DilatedPairState, Ev
     const Vec3 origin = load3(p.position, r.b);
     const Vec3 centre = transpose_times(rotation, load3(p.position, r.a) - origin);
     DeepestContacts<max_contacts> deepest;
-    if (!dilated_sphere_contacts(core, centre, p.radius(r.a), table.settings.slack, deepest))
+    PieceContactSink<max_contacts> sink{deepest, 0};
+    if (!dilated_sphere_contacts(core, centre, p.radius(r.a), table.settings.slack, sink))
       ++tally.failures;
-    // Found with the core as body A: turn the normals to point from b (the core) to a.
-    for (int c = 0; c < deepest.count; ++c) {
-      deepest.contact[c].normal = -deepest.contact[c].normal;
-      const int on_core = deepest.contact[c].feature_a;
-      deepest.contact[c].feature_a = 0;
-      deepest.contact[c].feature_b = on_core;
-    }
     const double radius = equivalent_series_radius(
         p.radius(r.a), DilatedPolyhedronFamily::equivalent_radius(table, shapes, p, r.b));
     return finish(
