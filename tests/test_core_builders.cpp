@@ -623,9 +623,10 @@ TEST(CoreSceneKeys, HullOfPointsThatSpanNoVolume) {
 
 TEST(CoreSceneKeys, SimplificationTarget) {
   const std::string sphere = "      superquadric: {a: 1, b: 1, c: 1, n1: 2, n2: 2}\n";
-  EXPECT_TRUE(refused(sphere + "      simplify_to: 396\n", 18, core_path + ".simplify_to",
-                      "expected a whole number of faces >= 4 and below the core's 396, got "
-                      "\"396\""));
+  // The default 1000 nodes: 1996 triangles.
+  EXPECT_TRUE(refused(sphere + "      simplify_to: 1996\n", 18, core_path + ".simplify_to",
+                      "expected a whole number of faces >= 4 and below the core's 1996, got "
+                      "\"1996\""));
   EXPECT_TRUE(refused(sphere + "      simplify_to: 3\n", 18, core_path + ".simplify_to",
                       "expected a whole number >= 4, got \"3\""));
 }
