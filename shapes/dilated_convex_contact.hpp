@@ -44,7 +44,6 @@ KOKKOS_INLINE_FUNCTION bool over_triangle(Vec3 a, Vec3 b, Vec3 c, Vec3 n, Vec3 x
 
 // What one body's search found besides its contacts.
 struct DilatedConvexTally {
-  int distances = 0;  // triangle distances computed
   int iterations = 0; // GJK iterations over them
   int deep = 0;       // faces crossed by the body
   int unconverged = 0;
@@ -88,7 +87,6 @@ KOKKOS_INLINE_FUNCTION void face_convex_contacts(const Core& core, int f, const 
       (1.0 / 3.0) * (triangle.corner[0] + triangle.corner[1] + triangle.corner[2]);
   controls.cutoff = r;
   const ConvexDistance between = convex_distance(support, triangle, centre - face_centre, controls);
-  ++tally.distances;
   tally.iterations += between.iterations;
   tally.unconverged += between.status != 0 ? 1 : 0;
   if (between.intersecting) {

@@ -51,16 +51,6 @@ template <class A> struct ConvexDilatedNarrowPhase : DilatedPairState, EveryRowO
     tally.failures += t.unconverged + (t.tree_walk_complete ? 0 : 1);
   }
 
-  template <int K>
-  KOKKOS_INLINE_FUNCTION void
-  sphere_piece(const DeviceCore& core, Vec3 centre, double radius, const Mat3& rotation_b,
-               Vec3 origin_b, int key, DeepestContacts<K>& deepest, NarrowPhaseTally& tally) const {
-    PieceContactSink<K> sink{deepest, key};
-    if (!dilated_sphere_contacts(core, transpose_times(rotation_b, centre - origin_b), radius,
-                                 table.settings.slack, sink))
-      ++tally.failures;
-  }
-
   KOKKOS_INLINE_FUNCTION PairOutcome operator()(const PairRef& r, PairContacts<max_contacts>& found,
                                                 NarrowPhaseTally& tally) const {
     if (bounding_spheres_apart(r))

@@ -14,6 +14,19 @@
 
 namespace kdem {
 
+// Hands the contacts of one piece of body a (found with b's core as body A) on with the pair's
+// order: normals from the polyhedron (b) towards the piece, keys (piece, core feature).
+template <int K> struct PieceContactSink {
+  DeepestContacts<K>& deepest;
+  int piece = 0;
+  KOKKOS_INLINE_FUNCTION void add(FeatureContact c) const {
+    c.normal = -c.normal;
+    c.feature_b = c.feature_a;
+    c.feature_a = piece;
+    deepest.add(c);
+  }
+};
+
 struct DilatedPairState {
   ParticleViews p;
   ShapeFamilies shapes;
@@ -26,6 +39,18 @@ struct DilatedPairState {
   KOKKOS_INLINE_FUNCTION bool bounding_spheres_apart(const PairRef& r) const {
     const double reach = p.radius(r.i) + p.radius(r.j);
     return !(norm2(load3(p.position, r.i) - load3(p.position, r.j)) < reach * reach);
+  }
+
+  // A sphere (centre, radius; world) as piece `key` of body a against b's core (b's frame:
+  // rotation_b, origin_b).
+  template <int K>
+  KOKKOS_INLINE_FUNCTION void
+  sphere_piece(const DeviceCore& core, Vec3 centre, double radius, const Mat3& rotation_b,
+               Vec3 origin_b, int key, DeepestContacts<K>& deepest, NarrowPhaseTally& tally) const {
+    PieceContactSink<K> sink{deepest, key};
+    if (!dilated_sphere_contacts(core, transpose_times(rotation_b, centre - origin_b), radius,
+                                 table.settings.slack, sink))
+      ++tally.failures;
   }
 
   // The contacts found in the frame (rotation, origin) turned into the world and into `found`,
@@ -52,19 +77,6 @@ struct DilatedPairState {
   }
 };
 
-// Hands the contacts of one piece of body a (found with b's core as body A) on with the pair's
-// order: normals from the polyhedron (b) towards the piece, keys (piece, core feature).
-template <int K> struct PieceContactSink {
-  DeepestContacts<K>& deepest;
-  int piece = 0;
-  KOKKOS_INLINE_FUNCTION void add(FeatureContact c) const {
-    c.normal = -c.normal;
-    c.feature_b = c.feature_a;
-    c.feature_a = piece;
-    deepest.add(c);
-  }
-};
-
 KOKKOS_INLINE_FUNCTION double equivalent_series_radius(double ri, double rj) {
   return ri * rj / (ri + rj);
 }
@@ -86,11 +98,8 @@ struct NarrowPhase<SphereFamily, DilatedPolyhedronFamily> : DilatedPairState, Ev
     const DeviceCore core = DilatedPolyhedronFamily::core(table, shapes, p, r.b);
     const Mat3 rotation = rotation_matrix(load_quat(p.orientation, r.b));
     const Vec3 origin = load3(p.position, r.b);
-    const Vec3 centre = transpose_times(rotation, load3(p.position, r.a) - origin);
     DeepestContacts<max_contacts> deepest;
-    PieceContactSink<max_contacts> sink{deepest, 0};
-    if (!dilated_sphere_contacts(core, centre, p.radius(r.a), table.settings.slack, sink))
-      ++tally.failures;
+    sphere_piece(core, load3(p.position, r.a), p.radius(r.a), rotation, origin, 0, deepest, tally);
     const double radius = equivalent_series_radius(
         p.radius(r.a), DilatedPolyhedronFamily::equivalent_radius(table, shapes, p, r.b));
     return finish(
