@@ -9,7 +9,7 @@
 #                      code may not touch outside kernels; runs the engine tests there
 #   make cuda          CUDA Kokkos (sm_90) + preset "cuda" (build/cuda); compiles and links
 #                      everything, runs nothing (see test-cuda)
-#   make cuda-sm80     same for Ampere sm_80 (build/cuda-sm80)
+#   make cuda-sm80     the engine and program (target kdem) for Ampere sm_80 (build/cuda-sm80)
 #   make test-cuda     ctest on build/cuda (needs a GPU)
 #   make perf-check    instructions per particle-step per stage (callgrind, fixed scenes) against
 #                      perf/baseline/callgrind_stages.json; fails on a regression above 5 %
@@ -31,6 +31,7 @@
 #                      be a CUDA-enabled Kokkos, whose bin/nvcc_wrapper becomes the compiler.
 #   KOKKOS_KERNELS_ROOT=DIR  Kokkos Kernels install, if not under KOKKOS_ROOT
 #   KDEM_CACHE=DIR     where scripts/deps.sh keeps its Kokkos builds (~/.cache/kdem)
+#   CCACHE_DIR=DIR     the compiler cache (KDEM_CACHE/ccache; ccache is used where installed)
 #   CMAKE_ARGS=...     extra arguments for the CMake configure step
 #
 # The configure step runs only when build/<preset> is not configured yet, the Kokkos
@@ -46,6 +47,10 @@ DEPS := scripts/deps.sh
 # Debian's interpreter, which has the python3-* packages that scripts/deps.sh installs.
 PYTHON ?= /usr/bin/python3
 MAKEFLAGS += --no-print-directory
+# The compiler cache (CMakeLists.txt uses ccache where it is installed) lives beside the Kokkos
+# builds unless CCACHE_DIR says otherwise.
+CCACHE_DIR ?= $(or $(KDEM_CACHE),$(HOME)/.cache/kdem)/ccache
+export CCACHE_DIR
 
 .PHONY: all deps deps-cuda deps-bench deps-fuzz build test demo bench serial memcheck memcheck-build \
         cuda cuda-sm80 test-cuda perf-check perf-baseline gpu-check fuzz format clean help
@@ -82,7 +87,7 @@ deps-fuzz:
 endif
 
 # --- configure + build --------------------------------------------------------
-# $(call configure_build,PRESET,DEPS-VARIANT)
+# $(call configure_build,PRESET,DEPS-VARIANT[,TARGET])
 define configure_build
 	@set -e; \
 	if [ -n "$(KOKKOS_ROOT)" ]; then root="$(KOKKOS_ROOT)"; \
@@ -101,7 +106,7 @@ define configure_build
 	    $(CMAKE_ARGS); \
 	  echo "$$prefix" > $$bdir/.kokkos-root; \
 	fi; \
-	KDEM_KOKKOS_ROOT="$$root" cmake --build $$bdir -j $(JOBS)
+	KDEM_KOKKOS_ROOT="$$root" cmake --build $$bdir -j $(JOBS) $(if $(3),--target $(3))
 endef
 
 build: deps
@@ -120,7 +125,7 @@ cuda: deps-cuda
 
 cuda-sm80: deps-cuda
 	@$(DEPS) --find-nvcc >/dev/null || { echo "make cuda-sm80: nvcc not found" >&2; exit 1; }
-	$(call configure_build,cuda-sm80,cuda-sm80)
+	$(call configure_build,cuda-sm80,cuda-sm80,kdem)
 	@scripts/check_cuda_lambdas.sh build/cuda-sm80
 
 # --- run ----------------------------------------------------------------------

@@ -38,7 +38,7 @@ FUZZ_CXX=clang++
 STAMP=.kdem-complete
 
 APT_PACKAGES=(g++ make cmake libeigen3-dev libhdf5-dev libvtk9-dev libgtest-dev
-  libyaml-cpp-dev libqhull-dev python3-matplotlib python3-h5py dpkg-dev xz-utils valgrind binutils)
+  libyaml-cpp-dev libqhull-dev ccache python3-matplotlib python3-h5py dpkg-dev xz-utils valgrind binutils)
 BENCH_PACKAGES=(liggghts)
 FUZZ_PACKAGES=(clang libclang-rt-14-dev)
 
