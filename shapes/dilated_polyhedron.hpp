@@ -11,8 +11,9 @@
 // only when parallel, and then the extremes of their contact patch are vertex-face, vertex-edge
 // and edge-edge pairs: the book's 3 to 6 points of two parallel faces, Sect. 4.2.2). Each feature
 // is tested once per body, by the face that owns it (the lowest-numbered face it belongs to), so
-// every feature pair is tested once; normal cones are tested with a small angular slack, so that
-// the points of nearly parallel faces fade out through their overlap, not through the cone.
+// every feature pair is tested once; normal cones are tested with a small angular slack, beyond
+// which a contact fades out over a further angle (ConeSlack), so that the points of nearly
+// parallel faces leave continuously.
 #include "mat3.hpp"
 #include "math.hpp"
 #include "vec3.hpp"
@@ -73,10 +74,24 @@ struct FeatureNumbering {
 // counts as in it. Enough to keep the points of exactly parallel features (which lie on cone
 // boundaries) from rounding; a larger slack also keeps near-minima, which differ from the
 // minimum by up to the slack in normal and by its square times the distance in overlap.
+// Beyond the slack a contact fades: its weight falls smoothly from 1 to 0 over a further `fade`
+// (a sine; 0: cut at the slack). Two faces resting on each other touch at their corners, and a
+// tilt of the order of overlap / face size takes every corner but the lowest out of its cone
+// while its overlap is still large; cut there, the force jumps and feeds a rocking of the bodies
+// that never dies out (cases/stack). Fading, it is continuous.
 struct ConeSlack {
   double sine = 1e-6, cosine = 1.0 - 5e-13;
-  KOKKOS_INLINE_FUNCTION static ConeSlack of_angle(double angle) {
-    return ConeSlack{math::sin(angle), math::cos(angle)};
+  double fade = 0;
+  KOKKOS_INLINE_FUNCTION static ConeSlack of_angle(double angle, double fade_angle = 0) {
+    return ConeSlack{math::sin(angle), math::cos(angle), math::sin(fade_angle)};
+  }
+  // The weight of a direction whose largest excursion out of a cone is `outside` (a sine):
+  // 1 - 3 t^2 + 2 t^3 of t = (outside - sine) / fade on [0, 1], 1 before and 0 after.
+  KOKKOS_INLINE_FUNCTION double weight(double outside) const {
+    if (!(outside > sine))
+      return 1.0;
+    const double t = fade > 0 ? (outside - sine) / fade : 1.0;
+    return t < 1 ? 1.0 - t * t * (3.0 - 2.0 * t) : 0.0;
   }
 };
 
@@ -96,33 +111,44 @@ struct RelativePose {
 // feature keys of each body.
 struct FeatureContact {
   double overlap = 0;
+  double cone_weight = 1; // in (0, 1]: see ConeSlack
   Vec3 normal, point;
   int feature_a = -1, feature_b = -1;
 };
 
 namespace dilated {
 
-// Normal cones (see CoreVertex, CoreEdge): whether the outward direction d (unit) of the core at
-// the feature lies in its cone, within the slack.
+// Normal cones (see CoreVertex, CoreEdge): the weight (ConeSlack::weight) of the outward
+// direction d (unit) of the core at the feature, 1 in its cone or within the slack, 0 beyond the
+// fade.
 template <class Core>
-KOKKOS_INLINE_FUNCTION bool in_vertex_cone(const Core& core, int v, Vec3 d, const ConeSlack& s) {
+KOKKOS_INLINE_FUNCTION double vertex_cone_weight(const Core& core, int v, Vec3 d,
+                                                 const ConeSlack& s) {
   const CoreVertex& vertex = core.vertex(v);
   if (!vertex.convex && !(dot(d, vertex.outward) > 0))
-    return false;
+    return 0.0;
+  double outside = -1;
   for (int m = 0; m < vertex.cone_count; ++m)
-    if (dot(d, core.cone(vertex.cone_first + m)) > s.sine)
-      return false;
-  return true;
+    outside = math::max(outside, dot(d, core.cone(vertex.cone_first + m)));
+  return s.weight(outside);
 }
 
 template <class Core>
-KOKKOS_INLINE_FUNCTION bool in_edge_cone(const Core& core, int e, Vec3 d, const ConeSlack& s) {
+KOKKOS_INLINE_FUNCTION double edge_cone_weight(const Core& core, int e, Vec3 d,
+                                               const ConeSlack& s) {
   const CoreEdge& edge = core.edge(e);
-  return edge.convex && dot(d, edge.inward[0]) <= s.sine && dot(d, edge.inward[1]) <= s.sine;
+  if (!edge.convex)
+    return 0.0;
+  return s.weight(math::max(dot(d, edge.inward[0]), dot(d, edge.inward[1])));
 }
 
-KOKKOS_INLINE_FUNCTION bool in_face_cone(Vec3 normal, Vec3 d, const ConeSlack& s) {
-  return dot(d, normal) >= s.cosine;
+KOKKOS_INLINE_FUNCTION double face_cone_weight(Vec3 normal, Vec3 d, const ConeSlack& s) {
+  const double along = dot(d, normal);
+  if (along >= s.cosine)
+    return 1.0;
+  if (!(along > 0))
+    return 0.0;
+  return s.weight(math::sqrt(math::max(0.0, 1.0 - along * along)));
 }
 
 // The parameter of the point of segment [p, q] nearest to x, and whether it lies strictly inside.
@@ -165,7 +191,8 @@ KOKKOS_INLINE_FUNCTION bool segments_interior(Vec3 p1, Vec3 q1, Vec3 p2, Vec3 q2
 
 // A candidate pair of core points (pa on A, pb on B, in A's frame) with their features: the
 // contact it makes when the points lie within reach and the direction between them lies in both
-// normal cones (tested by the caller's `cones(direction_from_b_to_a)`).
+// normal cones (the caller's `cones(direction_from_b_to_a)`: the product of both cones' weights,
+// 0 where it lies out of either).
 template <class Cones>
 KOKKOS_INLINE_FUNCTION bool feature_contact(Vec3 pa, Vec3 pb, double radius_a, double radius_b,
                                             int feature_a, int feature_b, const Cones& cones,
@@ -177,8 +204,10 @@ KOKKOS_INLINE_FUNCTION bool feature_contact(Vec3 pa, Vec3 pb, double radius_a, d
     return false;
   const double distance = math::sqrt(distance2);
   const Vec3 u = (1.0 / distance) * between;
-  if (!cones(u))
+  const double cone_weight = cones(u);
+  if (!(cone_weight > 0))
     return false;
+  contact.cone_weight = cone_weight;
   contact.overlap = reach - distance;
   contact.normal = u;
   contact.point = 0.5 * ((pa - radius_a * u) + (pb + radius_b * u));
@@ -223,10 +252,14 @@ KOKKOS_INLINE_FUNCTION void face_pair_contacts(const PlacedCore<CoreA>& a, int f
     xb[k] = b.vertex(face_b.vertex[k]);
   }
   const Vec3 na = a.face_normal(fa), nb = b.face_normal(fb);
-  const auto a_vertex = [&](int v, Vec3 u) { return in_vertex_cone(a.core, v, a.own(-u), slack); };
-  const auto b_vertex = [&](int v, Vec3 u) { return in_vertex_cone(b.core, v, b.own(u), slack); };
-  const auto a_edge = [&](int e, Vec3 u) { return in_edge_cone(a.core, e, a.own(-u), slack); };
-  const auto b_edge = [&](int e, Vec3 u) { return in_edge_cone(b.core, e, b.own(u), slack); };
+  const auto a_vertex = [&](int v, Vec3 u) {
+    return vertex_cone_weight(a.core, v, a.own(-u), slack);
+  };
+  const auto b_vertex = [&](int v, Vec3 u) {
+    return vertex_cone_weight(b.core, v, b.own(u), slack);
+  };
+  const auto a_edge = [&](int e, Vec3 u) { return edge_cone_weight(a.core, e, a.own(-u), slack); };
+  const auto b_edge = [&](int e, Vec3 u) { return edge_cone_weight(b.core, e, b.own(u), slack); };
   FeatureContact contact;
   for (int k = 0; k < 3; ++k) {
     const int v = face_a.vertex[k];
@@ -236,7 +269,7 @@ KOKKOS_INLINE_FUNCTION void face_pair_contacts(const PlacedCore<CoreA>& a, int f
     if (face_interior(xb[0], xb[1], xb[2], nb, xa[k], foot) &&
         feature_contact(
             xa[k], foot, ra, rb, keys_a.vertex(v), keys_b.face(fb),
-            [&](Vec3 u) { return in_face_cone(nb, u, slack) && a_vertex(v, u); }, contact))
+            [&](Vec3 u) { return face_cone_weight(nb, u, slack) * a_vertex(v, u); }, contact))
       sink.add(contact);
     for (int m = 0; m < 3; ++m) {
       const int e = face_b.edge[m];
@@ -244,13 +277,13 @@ KOKKOS_INLINE_FUNCTION void face_pair_contacts(const PlacedCore<CoreA>& a, int f
       if (b.core.edge(e).owner == fb && segment_interior(xb[m], xb[(m + 1) % 3], xa[k], t) &&
           feature_contact(
               xa[k], xb[m] + t * (xb[(m + 1) % 3] - xb[m]), ra, rb, keys_a.vertex(v),
-              keys_b.edge(e), [&](Vec3 u) { return b_edge(e, u) && a_vertex(v, u); }, contact))
+              keys_b.edge(e), [&](Vec3 u) { return b_edge(e, u) * a_vertex(v, u); }, contact))
         sink.add(contact);
       const int w = face_b.vertex[m];
       if (b.core.vertex(w).owner == fb &&
           feature_contact(
               xa[k], xb[m], ra, rb, keys_a.vertex(v), keys_b.vertex(w),
-              [&](Vec3 u) { return b_vertex(w, u) && a_vertex(v, u); }, contact))
+              [&](Vec3 u) { return b_vertex(w, u) * a_vertex(v, u); }, contact))
         sink.add(contact);
     }
   }
@@ -262,7 +295,7 @@ KOKKOS_INLINE_FUNCTION void face_pair_contacts(const PlacedCore<CoreA>& a, int f
     if (face_interior(xa[0], xa[1], xa[2], na, xb[m], foot) &&
         feature_contact(
             foot, xb[m], ra, rb, keys_a.face(fa), keys_b.vertex(w),
-            [&](Vec3 u) { return in_face_cone(na, -u, slack) && b_vertex(w, u); }, contact))
+            [&](Vec3 u) { return face_cone_weight(na, -u, slack) * b_vertex(w, u); }, contact))
       sink.add(contact);
     for (int k = 0; k < 3; ++k) {
       const int e = face_a.edge[k];
@@ -270,7 +303,7 @@ KOKKOS_INLINE_FUNCTION void face_pair_contacts(const PlacedCore<CoreA>& a, int f
       if (a.core.edge(e).owner == fa && segment_interior(xa[k], xa[(k + 1) % 3], xb[m], t) &&
           feature_contact(
               xa[k] + t * (xa[(k + 1) % 3] - xa[k]), xb[m], ra, rb, keys_a.edge(e),
-              keys_b.vertex(w), [&](Vec3 u) { return a_edge(e, u) && b_vertex(w, u); }, contact))
+              keys_b.vertex(w), [&](Vec3 u) { return a_edge(e, u) * b_vertex(w, u); }, contact))
         sink.add(contact);
     }
   }
@@ -285,7 +318,7 @@ KOKKOS_INLINE_FUNCTION void face_pair_contacts(const PlacedCore<CoreA>& a, int f
           segments_interior(xa[k], xa[(k + 1) % 3], xb[m], xb[(m + 1) % 3], s, t) &&
           feature_contact(
               xa[k] + s * (xa[(k + 1) % 3] - xa[k]), xb[m] + t * (xb[(m + 1) % 3] - xb[m]), ra, rb,
-              keys_a.edge(e), keys_b.edge(g), [&](Vec3 u) { return a_edge(e, u) && b_edge(g, u); },
+              keys_a.edge(e), keys_b.edge(g), [&](Vec3 u) { return a_edge(e, u) * b_edge(g, u); },
               contact))
         sink.add(contact);
     }
@@ -311,12 +344,12 @@ KOKKOS_INLINE_FUNCTION void face_boundary_contacts(const Core& core, int f, Vec3
     if (core.edge(e).owner == f && segment_interior(c[k], c[(k + 1) % 3], x, t) &&
         feature_contact(
             c[k] + t * (c[(k + 1) % 3] - c[k]), x, core.dilation(), radius, keys.edge(e), 0,
-            [&](Vec3 u) { return in_edge_cone(core, e, -u, slack); }, contact))
+            [&](Vec3 u) { return edge_cone_weight(core, e, -u, slack); }, contact))
       sink.add(contact);
     if (core.vertex(v).owner == f &&
         feature_contact(
             c[k], x, core.dilation(), radius, keys.vertex(v), 0,
-            [&](Vec3 u) { return in_vertex_cone(core, v, -u, slack); }, contact))
+            [&](Vec3 u) { return vertex_cone_weight(core, v, -u, slack); }, contact))
       sink.add(contact);
   }
 }
@@ -340,7 +373,7 @@ KOKKOS_INLINE_FUNCTION void face_sphere_contacts(const Core& core, int f, Vec3 x
   FeatureContact contact;
   if (feature_contact(
           foot, x, core.dilation(), radius, core.numbering().face(f), 0,
-          [&](Vec3 u) { return in_face_cone(face.normal, -u, slack); }, contact))
+          [&](Vec3 u) { return face_cone_weight(face.normal, -u, slack); }, contact))
     sink.add(contact);
 }
 
@@ -469,9 +502,11 @@ KOKKOS_INLINE_FUNCTION bool dilated_plane_contacts(const Core& core, Vec3 origin
         continue;
       const Vec3 x = core.vertex(v).position;
       const double height = dot(x - origin, n);
-      if (!(height < r) || !dilated::in_vertex_cone(core, v, -n, slack))
+      const double cone_weight = dilated::vertex_cone_weight(core, v, -n, slack);
+      if (!(height < r) || !(cone_weight > 0))
         continue;
       FeatureContact contact;
+      contact.cone_weight = cone_weight;
       contact.overlap = r - height;
       contact.normal = n;
       contact.point = x - (0.5 * (r + height)) * n;
@@ -514,9 +549,11 @@ KOKKOS_INLINE_FUNCTION bool dilated_cylinder_contacts(const Core& core, Vec3 bas
       if (!(gap < r) || !(along >= 0 && along <= length) || !(rho > 0))
         continue;
       const Vec3 outward = (1.0 / rho) * out;
-      if (!dilated::in_vertex_cone(core, v, outward, slack))
+      const double cone_weight = dilated::vertex_cone_weight(core, v, outward, slack);
+      if (!(cone_weight > 0))
         continue;
       FeatureContact contact;
+      contact.cone_weight = cone_weight;
       contact.overlap = r - gap;
       contact.normal = -outward;
       contact.point = x + (0.5 * (r + gap)) * outward;

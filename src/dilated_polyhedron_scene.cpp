@@ -177,10 +177,17 @@ std::shared_ptr<const FamilyShapeParameters> read_dilated_polyhedron(const Value
 
 std::shared_ptr<const FamilySettings> read_dilated_polyhedron_contact(const Value& value) {
   auto settings = std::make_shared<DilatedPolyhedronContactConfig>();
-  const Mapping map(value, {"cone_slack", "averaging", "averaging_angle"});
+  const Mapping map(value,
+                    {"cone_slack", "cone_fade", "merge_distance", "averaging", "averaging_angle"});
   if (auto slack = map.find("cone_slack"))
     settings->cone_slack = number_where(*slack, "an angle in radians in [0, 0.1]",
                                         [](double a) { return a >= 0 && a <= 0.1; });
+  if (auto fade = map.find("cone_fade"))
+    settings->cone_fade = number_where(*fade, "an angle in radians in [0, 0.2]",
+                                       [](double a) { return a >= 0 && a <= 0.2; });
+  if (auto merge = map.find("merge_distance"))
+    settings->merge_distance = number_where(*merge, "a fraction of the dilation radius in [0, 2]",
+                                            [](double m) { return m >= 0 && m <= 2; });
   if (auto averaging = map.find("averaging"))
     settings->averaging = one_of_words(*averaging, {"averaged", "summed"}) == "averaged";
   if (auto angle = map.find("averaging_angle"))

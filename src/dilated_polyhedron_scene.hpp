@@ -24,6 +24,8 @@ struct DilatedPolyhedronShapeParameters : FamilyShapeParameters {
 
 struct DilatedPolyhedronContactConfig : FamilySettings {
   double cone_slack = 1e-6;    // rad, see ConeSlack (shapes/dilated_polyhedron.hpp)
+  double cone_fade = 0.002;    // rad, beyond the slack: see ConeSlack
+  double merge_distance = 0.5; // of the smaller dilation radius: see DilatedContactSettings
   bool averaging = true;       // false: every contact point counts in full
   double averaging_angle = 30; // degrees: contact points whose normals agree within it average
 };

@@ -69,9 +69,10 @@ DilatedContactSettings contact_settings(const FamilySettings* given) {
   if (const auto* settings = dynamic_cast<const DilatedPolyhedronContactConfig*>(given))
     config = *settings;
   DilatedContactSettings settings;
-  settings.slack = ConeSlack::of_angle(config.cone_slack);
+  settings.slack = ConeSlack::of_angle(config.cone_slack, config.cone_fade);
   settings.averaging.weighted = config.averaging;
   settings.averaging.cos_angle = std::cos(config.averaging_angle * pi / 180.0);
+  settings.merge = config.merge_distance;
   return settings;
 }
 

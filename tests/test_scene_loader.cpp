@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "src/clump_scene.hpp"
+#include "src/dilated_polyhedron_scene.hpp"
 #include "src/poly_superquadric_scene.hpp"
 #include "src/scene_loader.hpp"
 #include "src/superquadric_scene.hpp"
@@ -1143,6 +1144,28 @@ TEST(SceneClumps, SeamSettingsAreChecked) {
                          "clump_contact.seam_angle", "expected an angle in degrees in (0, 90)"));
   EXPECT_TRUE(fails_with(minimal_scene_plus("clump_contact: {lanes: false}\n"), 14,
                          "clump_contact.lanes", "got the key \"lanes\""));
+}
+
+TEST(SceneDilatedPolyhedra, ContactSettingsAreReadAndChecked) {
+  const SceneConfig scene = load_text(minimal_scene_plus(
+      "dilated_polyhedron_contact: {cone_slack: 1.0e-5, cone_fade: 0.05, merge_distance: 0.25, "
+      "averaging: summed, averaging_angle: 20}\n"));
+  const auto& settings = dynamic_cast<const kdem::DilatedPolyhedronContactConfig&>(
+      *scene.family_settings.at("dilated_polyhedron"));
+  EXPECT_EQ(settings.cone_slack, 1e-5);
+  EXPECT_EQ(settings.cone_fade, 0.05);
+  EXPECT_EQ(settings.merge_distance, 0.25);
+  EXPECT_FALSE(settings.averaging);
+  EXPECT_EQ(settings.averaging_angle, 20);
+  const kdem::DilatedPolyhedronContactConfig defaults;
+  EXPECT_EQ(defaults.cone_fade, 0.02);
+  EXPECT_EQ(defaults.merge_distance, 0.5);
+  EXPECT_TRUE(fails_with(minimal_scene_plus("dilated_polyhedron_contact: {cone_fade: 0.3}\n"), 14,
+                         "dilated_polyhedron_contact.cone_fade",
+                         "expected an angle in radians in [0, 0.2]"));
+  EXPECT_TRUE(fails_with(minimal_scene_plus("dilated_polyhedron_contact: {merge_distance: -1}\n"),
+                         14, "dilated_polyhedron_contact.merge_distance",
+                         "expected a fraction of the dilation radius in [0, 2]"));
 }
 
 // A true/false key of superquadric_contact: on by default, off when set false, and anything

@@ -20,6 +20,6 @@ export OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}" OMP_PROC_BIND="${OMP_PROC_BIND:-f
 rm -rf "$OUT/step0" "$OUT/run"
 # Step 0 only: the bodies as the engine creates them (apart), and their checkpoint.
 "$KDEM" run "$OUT/stack.yaml" --out "$OUT/step0" --steps 0 --quiet
-"$PYTHON" "$HERE/place_stack.py" "$OUT/step0/checkpoint.h5" "$OUT/stacked.h5"
+"$PYTHON" "$HERE/place_stack.py" "$OUT/step0" "$OUT/stacked.h5"
 "$KDEM" run "$OUT/stack.yaml" --out "$OUT/run" --restart "$OUT/stacked.h5" --quiet
 "$PYTHON" "$HERE/analyse.py" "$OUT/run" "$HERE/results"

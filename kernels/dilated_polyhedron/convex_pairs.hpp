@@ -60,7 +60,7 @@ template <class A> struct ConvexDilatedNarrowPhase : DilatedPairState, EveryRowO
     const Mat3 rotation_b = rotation_matrix(load_quat(p.orientation, r.b));
     const Vec3 origin_b = load3(p.position, r.b);
     const double radius_b = DilatedPolyhedronFamily::equivalent_radius(table, shapes, p, r.b);
-    DeepestContacts<max_contacts> deepest;
+    DeepestContacts<max_contacts> deepest(table.settings, core.dilation());
     if constexpr (std::is_same_v<A, ClumpFamily>) {
       const Mat3 rotation_a = rotation_matrix(load_quat(p.orientation, r.a));
       const int template_a = shapes.template_index(p.shape(r.a));

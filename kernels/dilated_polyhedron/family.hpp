@@ -19,6 +19,12 @@ struct DilatedContactSettings {
   // Contact points whose normals agree within the seam angle share the pair's force in
   // proportion to their overlaps (for equal overlaps, Eq. 4.19's 1 / N_p); reach: unbounded.
   SeamSettings averaging{true, 1e300, 0.8660254};
+  // Contacts of one pair (or of a particle and a wall element) closer than `merge` x the
+  // smaller dilation radius, whose normals agree within the averaging angle, are one contact: the
+  // strongest (cone weight x overlap) is kept. Where corners of two faces coincide, several
+  // feature pairs (vertex-vertex, vertex-edge, edge-edge, vertex-face) find the same contact,
+  // and how many do changes with every small slide; counted once, the force does not jump.
+  double merge = 0.5;
 };
 
 // One template's core on the device: flat arrays of the template's rows (pointers into the
@@ -98,9 +104,37 @@ struct DilatedPolyhedronFamily {
 template <int K> struct DeepestContacts {
   int count = 0;
   int missed = 0;
+  double merge_distance = 0; // see DilatedContactSettings::merge
+  double merge_cosine = 1;
   FeatureContact contact[K];
 
+  DeepestContacts() = default;
+  // With the settings' merging, for bodies whose smaller dilation radius is `radius`.
+  KOKKOS_INLINE_FUNCTION DeepestContacts(const DilatedContactSettings& s, double radius)
+      : merge_distance(s.merge * radius), merge_cosine(s.averaging.cos_angle) {}
+
+  KOKKOS_INLINE_FUNCTION static double strength(const FeatureContact& c) {
+    return c.cone_weight * c.overlap;
+  }
+
+  // The contact already kept that c is one with, or -1.
+  KOKKOS_INLINE_FUNCTION int same_as(const FeatureContact& c) const {
+    for (int m = 0; m < count; ++m)
+      if (norm2(c.point - contact[m].point) < merge_distance * merge_distance &&
+          dot(c.normal, contact[m].normal) > merge_cosine)
+        return m;
+    return -1;
+  }
+
   KOKKOS_INLINE_FUNCTION void add(const FeatureContact& c) {
+    if (merge_distance > 0) {
+      const int same = same_as(c);
+      if (same >= 0) {
+        if (strength(c) > strength(contact[same]))
+          contact[same] = c;
+        return;
+      }
+    }
     if (count < K) {
       contact[count++] = c;
       return;
@@ -114,16 +148,19 @@ template <int K> struct DeepestContacts {
       contact[shallowest] = c;
   }
 
-  // weight(c) of each contact: its share among the contacts whose normals agree with its own.
+  // weight(c) of each contact: its cone weight times its share among the contacts whose normals
+  // agree with its own, shared by overlap times cone weight (a contact fading out of its cone
+  // gives its share up as it fades).
   template <class SetWeight>
   KOKKOS_INLINE_FUNCTION void weights(const SeamSettings& averaging,
                                       const SetWeight& set_weight) const {
     ContactGeometry g[K];
     for (int c = 0; c < count; ++c)
-      g[c] = ContactGeometry{true, contact[c].overlap, contact[c].normal, contact[c].point};
+      g[c] = ContactGeometry{true, contact[c].cone_weight * contact[c].overlap, contact[c].normal,
+                             contact[c].point};
     seam_weights(
         count, [&](int c) -> const ContactGeometry& { return g[c]; }, [](int) { return 1.0; },
-        averaging, set_weight);
+        averaging, [&](int c, double w) { set_weight(c, contact[c].cone_weight * w); });
   }
 };
 

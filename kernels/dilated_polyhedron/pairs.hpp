@@ -98,7 +98,7 @@ struct NarrowPhase<SphereFamily, DilatedPolyhedronFamily> : DilatedPairState, Ev
     const DeviceCore core = DilatedPolyhedronFamily::core(table, shapes, p, r.b);
     const Mat3 rotation = rotation_matrix(load_quat(p.orientation, r.b));
     const Vec3 origin = load3(p.position, r.b);
-    DeepestContacts<max_contacts> deepest;
+    DeepestContacts<max_contacts> deepest(table.settings, core.dilation());
     sphere_piece(core, load3(p.position, r.a), p.radius(r.a), rotation, origin, 0, deepest, tally);
     const double radius = equivalent_series_radius(
         p.radius(r.a), DilatedPolyhedronFamily::equivalent_radius(table, shapes, p, r.b));
@@ -130,7 +130,8 @@ struct NarrowPhase<DilatedPolyhedronFamily, DilatedPolyhedronFamily> : DilatedPa
     const Vec3 origin = load3(p.position, r.a);
     const RelativePose pose{transpose(rotation_a) * rotation_b,
                             transpose_times(rotation_a, load3(p.position, r.b) - origin)};
-    DeepestContacts<max_contacts> deepest;
+    DeepestContacts<max_contacts> deepest(table.settings,
+                                          math::min(core_a.dilation(), core_b.dilation()));
     if (!dilated_pair_contacts(core_a, core_b, pose, table.settings.slack, deepest))
       ++tally.failures;
     const double radius =

@@ -83,7 +83,7 @@ struct DilatedPolyhedronWallContact {
     const RelativePose pose{
         transpose(rotation) * wall_rotation,
         transpose_times(rotation, wall.offset - wall_rotation * wall.pivot - origin)};
-    DeepestContacts<max_contacts> deepest;
+    DeepestContacts<max_contacts> deepest(table.settings, core.dilation());
     const ConeSlack& slack = table.settings.slack;
     switch (el.kind(e)) {
     case plane_element:
