@@ -1158,7 +1158,7 @@ TEST(SceneDilatedPolyhedra, ContactSettingsAreReadAndChecked) {
   EXPECT_FALSE(settings.averaging);
   EXPECT_EQ(settings.averaging_angle, 20);
   const kdem::DilatedPolyhedronContactConfig defaults;
-  EXPECT_EQ(defaults.cone_fade, 0.02);
+  EXPECT_EQ(defaults.cone_fade, 0.002);
   EXPECT_EQ(defaults.merge_distance, 0.5);
   EXPECT_TRUE(fails_with(minimal_scene_plus("dilated_polyhedron_contact: {cone_fade: 0.3}\n"), 14,
                          "dilated_polyhedron_contact.cone_fade",
