@@ -53,16 +53,14 @@ def vertical_extents(vtp_path, ids, heights):
 
 def stacked_positions(names, source, below, above):
     """Centroids of the bodies in their stacks: on the stack's axis, bottom first, GAP apart."""
-    layout = {f"{stack}_{level}": (stack, level, target)
-              for stack, level, _, _, target in make_scene.stack_layout()}
-    shape_of = {f"{stack}_{level}": shape
-                for stack, level, shape, _, _ in make_scene.stack_layout()}
+    layout = {f"{stack}_{level}": (stack, level, shape, target)
+              for stack, level, shape, _, target in make_scene.stack_layout()}
     position = np.empty((len(source), 3))
     order = sorted(range(len(source)), key=lambda k: layout[names[source[k]]][:2])
     top = {}
     for k in order:
-        stack, level, target = layout[names[source[k]]]
-        nominal = make_scene.half_thickness(shape_of[names[source[k]]])
+        stack, _, shape, target = layout[names[source[k]]]
+        nominal = make_scene.half_thickness(shape)
         centroid = top.get(stack, 0.0) + make_scene.GAP + max(below[k], nominal)
         position[k] = (target[0], target[1], centroid)
         top[stack] = centroid + max(above[k], nominal)
