@@ -4,8 +4,9 @@
 // r below S's smallest radius of curvature, the dilated body is S up to the core's faceting.
 // Probe spheres (radius a / 5) touch S at random points, overlapping it by a / 100 along its
 // normal there; each contact is computed by the exact sphere-superquadric closest point of the
-// superquadric family (the reference) and by the dilated polyhedron's narrow phase. Per (M, r):
-// the median and largest relative overlap error (against a / 100; a probe the polyhedron does
+// superquadric family (the reference) and by the dilated polyhedron's narrow phase, with the
+// engine's default contact settings (slack, fade, merging, averaging, normal-cone caps). Per (M,
+// r): the median and largest relative overlap error (against a / 100; a probe the polyhedron does
 // not touch, `missed`, counts its whole overlap), the median and largest
 // normal error (rad; the force-weighted normal of the polyhedron's contact points, averaged as
 // the engine does), the time per contact of each method (median of --repeat sweeps, one thread),
@@ -25,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "kernels/dilated_polyhedron/family.hpp"
 #include "shapes/dilated_polyhedron_build.hpp"
 #include "shapes/dilated_polyhedron_properties.hpp"
 #include "shapes/superquadric_contact.hpp"
@@ -41,6 +43,14 @@ struct Shape {
   SuperquadricShape s;
 };
 
+// The engine's contact settings at the scene's defaults (docs/scene.md,
+// dilated_polyhedron_contact): cone slack 1e-6 rad, fade 0.002 rad, merging and averaging.
+DilatedContactSettings engine_settings() {
+  DilatedContactSettings settings;
+  settings.slack = ConeSlack::of_angle(1e-6, 0.002);
+  return settings;
+}
+
 // The lattice of S with each node moved inward by r along S's unit normal there, then scaled
 // by `scale` about the centre.
 DilatedCore offset_core(const SuperquadricShape& s, int nodes, double r, double scale = 1) {
@@ -51,7 +61,9 @@ DilatedCore offset_core(const SuperquadricShape& s, int nodes, double r, double 
     const ShapeFunction f = superquadric_local<false>(s, x);
     points.push_back(scale * (x - (r / norm(f.gradient)) * f.gradient));
   }
-  return build_dilated_core(points, lattice.triangles, r);
+  DilatedCore core = build_dilated_core(points, lattice.triangles, r);
+  bound_normal_cones(core, engine_settings().slack);
+  return core;
 }
 
 struct Probe {
@@ -80,38 +92,28 @@ std::vector<Probe> probes(const SuperquadricShape& s, int count, unsigned seed) 
   return out;
 }
 
-// The contact points of a pair, averaged as the engine does (overlap-weighted among normals
-// within 30 degrees): the force-weighted overlap and normal of the group with the deepest point.
+using Collected = DeepestContacts<DilatedPolyhedronFamily::contact_points>;
+
+// The contact points of a pair as the engine weighs them (merged, faded and averaged): the
+// force-weighted overlap sum_c w_c o_c and normal of their forces.
 struct Averaged {
   double overlap = 0;
   Vec3 normal;
   bool touching = false;
 };
 
-struct Collected {
-  std::vector<FeatureContact> contacts;
-  void add(const FeatureContact& c) { contacts.push_back(c); }
-};
-
-Averaged averaged(const Collected& found) {
+Averaged averaged(const Collected& found, const DilatedContactSettings& settings) {
   Averaged a;
-  if (found.contacts.empty())
+  if (found.count == 0)
     return a;
-  const FeatureContact* deepest = &found.contacts[0];
-  for (const FeatureContact& c : found.contacts)
-    if (c.overlap > deepest->overlap)
-      deepest = &c;
-  double weight = 0, overlap2 = 0;
-  Vec3 normal;
-  for (const FeatureContact& c : found.contacts)
-    if (dot(c.normal, deepest->normal) > std::cos(pi / 6)) {
-      weight += c.overlap;
-      overlap2 += c.overlap * c.overlap;
-      normal += c.overlap * c.normal;
-    }
-  a.touching = true;
-  a.overlap = overlap2 / weight;
-  a.normal = (1.0 / norm(normal)) * normal;
+  Vec3 force;
+  found.weights(settings.averaging, [&](int c, double w) {
+    a.overlap += w * found.contact[c].overlap;
+    force += (w * found.contact[c].overlap) * found.contact[c].normal;
+  });
+  a.touching = a.overlap > 0;
+  if (a.touching)
+    a.normal = (1.0 / norm(force)) * force;
   return a;
 }
 
@@ -163,6 +165,7 @@ int main(int argc, char** argv) {
   std::string json = "{\n  \"benchmark\": \"dilated_accuracy\",\n  \"git_hash\": \"" +
                      std::string(git_hash()) + "\",\n  \"repeat\": " + std::to_string(repeat) +
                      ",\n  \"probes\": " + std::to_string(probe_count) + ",\n  \"shapes\": [\n";
+  const DilatedContactSettings settings = engine_settings();
   for (std::size_t k = 0; k < shapes.size(); ++k) {
     const SuperquadricShape& s = shapes[k].s;
     const PosedSuperquadric body{s, Vec3{}, identity3()};
@@ -198,9 +201,9 @@ int main(int argc, char** argv) {
           std::vector<double> overlap_errors, normal_errors;
           int missed = 0;
           for (std::size_t p = 0; p < all.size(); ++p) {
-            Collected found;
-            dilated_sphere_contacts(core, all[p].centre, all[p].radius, ConeSlack{}, found);
-            const Averaged a = averaged(found);
+            Collected found(settings, core.dilation());
+            dilated_sphere_contacts(core, all[p].centre, all[p].radius, settings.slack, found);
+            const Averaged a = averaged(found, settings);
             if (!exact[p].geometry.touching)
               continue; // not by construction: the exact solve failed (counted none so far)
             if (!a.touching) {
@@ -217,9 +220,9 @@ int main(int argc, char** argv) {
           const double seconds = seconds_per_call(repeat, probe_count, [&] {
             int sink = 0;
             for (const Probe& p : all) {
-              Collected found;
-              dilated_sphere_contacts(core, p.centre, p.radius, ConeSlack{}, found);
-              sink += int(found.contacts.size());
+              Collected found(settings, core.dilation());
+              dilated_sphere_contacts(core, p.centre, p.radius, settings.slack, found);
+              sink += found.count;
             }
             if (sink == -1)
               std::puts("");

@@ -167,13 +167,6 @@ struct SeamSettings {
   double cos_angle = 0.8660254; // cos 30 degrees
 };
 
-// 1 - 3 t^2 + 2 t^3 on [0, 1], 0 beyond: smooth, 1 at 0 and 0 at 1 with zero slope.
-KOKKOS_INLINE_FUNCTION double seam_falloff(double t) {
-  if (!(t < 1))
-    return 0;
-  return t <= 0 ? 1.0 : 1.0 - t * t * (3.0 - 2.0 * t);
-}
-
 // How much two contacts are one: their points' distance against `reach`, their normals' angle
 // against the settings'.
 KOKKOS_INLINE_FUNCTION double seam_kernel(const ContactGeometry& a, const ContactGeometry& b,
@@ -181,8 +174,8 @@ KOKKOS_INLINE_FUNCTION double seam_kernel(const ContactGeometry& a, const Contac
   const double alignment = dot(a.normal, b.normal);
   if (!(alignment > seam.cos_angle))
     return 0;
-  return seam_falloff(norm(a.point - b.point) / reach) *
-         seam_falloff((1.0 - alignment) / (1.0 - seam.cos_angle));
+  return math::falloff(norm(a.point - b.point) / reach) *
+         math::falloff((1.0 - alignment) / (1.0 - seam.cos_angle));
 }
 
 // The weights of `count` contacts (geometry(c), size(c): the smaller equivalent radius of its two

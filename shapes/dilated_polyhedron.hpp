@@ -55,10 +55,16 @@ struct CoreFace {
 
 // A node of the bounding-sphere tree over the faces (root: node 0). A leaf holds one face:
 // left < 0 and right is the face; an inner node has children left and right.
+// Its cap (axis, and the cosine and sine of its half-angle) holds every outward direction in
+// which a feature tested under the node (a face, or an edge or vertex its face owns) can meet
+// another body: their normal cones widened by the slack and fade the core's caps were bound for
+// (bound_normal_cones). Half-angle pi (cosine -1): any direction, so nothing is pruned.
 struct SphereNode {
   Vec3 centre;
   double radius = 0;
   int left = -1, right = 0;
+  Vec3 cap_axis{0, 0, 1};
+  double cap_cos = -1, cap_sin = 0;
 };
 
 // Feature keys of a core of V vertices and E edges: vertex k is k, edge k is V + k, face k is
@@ -86,12 +92,11 @@ struct ConeSlack {
     return ConeSlack{math::sin(angle), math::cos(angle), math::sin(fade_angle)};
   }
   // The weight of a direction whose largest excursion out of a cone is `outside` (a sine):
-  // 1 - 3 t^2 + 2 t^3 of t = (outside - sine) / fade on [0, 1], 1 before and 0 after.
+  // math::falloff of t = (outside - sine) / fade.
   KOKKOS_INLINE_FUNCTION double weight(double outside) const {
     if (!(outside > sine))
       return 1.0;
-    const double t = fade > 0 ? (outside - sine) / fade : 1.0;
-    return t < 1 ? 1.0 - t * t * (3.0 - 2.0 * t) : 0.0;
+    return math::falloff(fade > 0 ? (outside - sine) / fade : 1.0);
   }
 };
 
@@ -377,6 +382,65 @@ KOKKOS_INLINE_FUNCTION void face_sphere_contacts(const Core& core, int f, Vec3 x
     sink.add(contact);
 }
 
+// The reach of a slack into the sine of the angle out of a cone (ConeSlack::weight): directions
+// beyond it weigh 0. Node caps bound for a reach hold the cones of every smaller one.
+KOKKOS_INLINE_FUNCTION double cone_reach(const ConeSlack& slack) {
+  return slack.sine + slack.fade;
+}
+
+namespace dilated {
+
+// Whether two unit directions (the cosine between them) are at most the sum of two angles in
+// [0, pi] (cosines and sines) apart, rounding towards yes.
+KOKKOS_INLINE_FUNCTION bool within_angles(double between, double cos_a, double sin_a, double cos_b,
+                                          double sin_b) {
+  if (cos_a + cos_b <= 0) // a + b >= pi
+    return true;
+  return between >= cos_a * cos_b - sin_a * sin_b - 1e-12;
+}
+
+// Whether some direction within `spread` (cosine, sine) of the unit direction d lies in the
+// node's cap.
+KOKKOS_INLINE_FUNCTION bool cap_meets(const SphereNode& node, Vec3 d, double spread_cos,
+                                      double spread_sin) {
+  return within_angles(dot(node.cap_axis, d), node.cap_cos, node.cap_sin, spread_cos, spread_sin);
+}
+
+// The directions from the points of a sphere (centre, radius) to the point x: within `spread`
+// of `direction`; false where x lies in the sphere (any direction).
+struct DirectionSpread {
+  Vec3 direction;
+  double spread_cos = 1, spread_sin = 0;
+};
+KOKKOS_INLINE_FUNCTION bool direction_spread(Vec3 centre, double radius, Vec3 x,
+                                             DirectionSpread& spread) {
+  const double distance = norm(x - centre);
+  if (!(distance > radius * (1 + 1e-12)))
+    return false;
+  spread.direction = (1.0 / distance) * (x - centre);
+  spread.spread_sin = radius / distance;
+  spread.spread_cos = math::sqrt(math::max(0.0, 1.0 - spread.spread_sin * spread.spread_sin));
+  return true;
+}
+
+// Whether node a of body A and node b of body B (placed by `pose` in A's frame) can hold a
+// contact: its direction u (from B towards A) must have -u in a's cap and u in b's, and lie
+// within the directions from b's sphere to a's.
+KOKKOS_INLINE_FUNCTION bool caps_meet(const SphereNode& a, const SphereNode& b,
+                                      const RelativePose& pose) {
+  const Vec3 axis_b = pose.rotation * b.cap_axis;
+  if (!within_angles(-dot(a.cap_axis, axis_b), a.cap_cos, a.cap_sin, b.cap_cos, b.cap_sin))
+    return false;
+  DirectionSpread from_b;
+  if (!direction_spread(pose.point(b.centre), a.radius + b.radius, a.centre, from_b))
+    return true;
+  return cap_meets(a, -from_b.direction, from_b.spread_cos, from_b.spread_sin) &&
+         within_angles(dot(axis_b, from_b.direction), b.cap_cos, b.cap_sin, from_b.spread_cos,
+                       from_b.spread_sin);
+}
+
+} // namespace dilated
+
 // Depth of the fixed stacks of the tree walks: a tree of n faces built by median splits is about
 // log2(n) deep, and a walk of two trees holds at most the sum of their depths plus one.
 constexpr int sphere_tree_stack = 96;
@@ -405,36 +469,48 @@ KOKKOS_INLINE_FUNCTION bool for_each_face_where(const Core& core, const Near& ne
 }
 
 // Calls visit(face) for every face of the core whose node sphere comes within `reach` of x
-// (core frame).
+// (core frame); with `caps`, only those whose node caps hold a direction from the node's sphere
+// towards x.
 template <class Core, class Visit>
 KOKKOS_INLINE_FUNCTION bool for_each_face_near(const Core& core, Vec3 x, double reach,
-                                               Visit&& visit) {
+                                               Visit&& visit, bool caps = false) {
   return for_each_face_where(
       core,
       [&](const SphereNode& node) {
         const double within = node.radius + reach;
-        return norm2(x - node.centre) < within * within;
+        if (!(norm2(x - node.centre) < within * within))
+          return false;
+        dilated::DirectionSpread towards_x;
+        return !caps || !dilated::direction_spread(node.centre, node.radius, x, towards_x) ||
+               dilated::cap_meets(node, towards_x.direction, towards_x.spread_cos,
+                                  towards_x.spread_sin);
       },
       visit);
 }
 
 // Calls visit(face) for every face whose node sphere comes within `reach` of the plane through
-// `origin` with unit normal n, on its front side (signed distance < node radius + reach).
+// `origin` with unit normal n, on its front side (signed distance < node radius + reach); with
+// `caps`, only those whose node caps hold -n.
 template <class Core, class Visit>
 KOKKOS_INLINE_FUNCTION bool for_each_face_near_plane(const Core& core, Vec3 origin, Vec3 n,
-                                                     double reach, Visit&& visit) {
+                                                     double reach, Visit&& visit,
+                                                     bool caps = false) {
   return for_each_face_where(
       core,
-      [&](const SphereNode& node) { return dot(node.centre - origin, n) < node.radius + reach; },
+      [&](const SphereNode& node) {
+        return dot(node.centre - origin, n) < node.radius + reach &&
+               (!caps || dilated::cap_meets(node, -n, 1.0, 0.0));
+      },
       visit);
 }
 
 // Calls visit(face_a, face_b) for every pair of faces whose node spheres (B's placed in A's frame
-// by `pose`) come within `reach`; the larger node of a pair is split first.
+// by `pose`) come within `reach`, and with `caps` whose node caps can hold a contact
+// (dilated::caps_meet); the larger node of a pair is split first.
 template <class CoreA, class CoreB, class Visit>
 KOKKOS_INLINE_FUNCTION bool for_each_face_pair_near(const CoreA& a, const CoreB& b,
                                                     const RelativePose& pose, double reach,
-                                                    Visit&& visit) {
+                                                    Visit&& visit, bool caps = false) {
   int stack_a[sphere_tree_stack], stack_b[sphere_tree_stack];
   int top = 0;
   stack_a[top] = 0, stack_b[top] = 0, ++top;
@@ -445,6 +521,8 @@ KOKKOS_INLINE_FUNCTION bool for_each_face_pair_near(const CoreA& a, const CoreB&
     const SphereNode& node_b = b.node(nb);
     const double within = node_a.radius + node_b.radius + reach;
     if (!(norm2(pose.point(node_b.centre) - node_a.centre) < within * within))
+      continue;
+    if (caps && !dilated::caps_meet(node_a, node_b, pose))
       continue;
     const bool leaf_a = node_a.left < 0, leaf_b = node_b.left < 0;
     if (leaf_a && leaf_b) {
@@ -473,17 +551,21 @@ KOKKOS_INLINE_FUNCTION bool dilated_pair_contacts(const CoreA& a, const CoreB& b
                                                   Sink& sink) {
   const PlacedCore<CoreA> placed_a{a, RelativePose{identity3(), Vec3{}}, false};
   const PlacedCore<CoreB> placed_b{b, pose, true};
-  return for_each_face_pair_near(a, b, pose, a.dilation() + b.dilation(), [&](int fa, int fb) {
-    face_pair_contacts(placed_a, fa, placed_b, fb, slack, sink);
-  });
+  const double reach = cone_reach(slack);
+  return for_each_face_pair_near(
+      a, b, pose, a.dilation() + b.dilation(),
+      [&](int fa, int fb) { face_pair_contacts(placed_a, fa, placed_b, fb, slack, sink); },
+      a.cap_reach() >= reach && b.cap_reach() >= reach);
 }
 
 // The contacts of a dilated core with a sphere (centre x in the core's frame, radius r).
 template <class Core, class Sink>
 KOKKOS_INLINE_FUNCTION bool dilated_sphere_contacts(const Core& core, Vec3 x, double radius,
                                                     const ConeSlack& slack, Sink& sink) {
-  return for_each_face_near(core, x, core.dilation() + radius,
-                            [&](int f) { face_sphere_contacts(core, f, x, radius, slack, sink); });
+  return for_each_face_near(
+      core, x, core.dilation() + radius,
+      [&](int f) { face_sphere_contacts(core, f, x, radius, slack, sink); },
+      core.cap_reach() >= cone_reach(slack));
 }
 
 // The contacts of a dilated core with the front side of a plane (origin, unit normal n, in the
@@ -494,27 +576,31 @@ KOKKOS_INLINE_FUNCTION bool dilated_plane_contacts(const Core& core, Vec3 origin
                                                    const ConeSlack& slack, Sink& sink) {
   const FeatureNumbering keys = core.numbering();
   const double r = core.dilation();
-  return for_each_face_near_plane(core, origin, n, r, [&](int f) {
-    const CoreFace& face = core.face(f);
-    for (int k = 0; k < 3; ++k) {
-      const int v = face.vertex[k];
-      if (core.vertex(v).owner != f)
-        continue;
-      const Vec3 x = core.vertex(v).position;
-      const double height = dot(x - origin, n);
-      const double cone_weight = dilated::vertex_cone_weight(core, v, -n, slack);
-      if (!(height < r) || !(cone_weight > 0))
-        continue;
-      FeatureContact contact;
-      contact.cone_weight = cone_weight;
-      contact.overlap = r - height;
-      contact.normal = n;
-      contact.point = x - (0.5 * (r + height)) * n;
-      contact.feature_a = keys.vertex(v);
-      contact.feature_b = 0;
-      sink.add(contact);
-    }
-  });
+  const bool caps = core.cap_reach() >= cone_reach(slack);
+  return for_each_face_near_plane(
+      core, origin, n, r,
+      [&](int f) {
+        const CoreFace& face = core.face(f);
+        for (int k = 0; k < 3; ++k) {
+          const int v = face.vertex[k];
+          if (core.vertex(v).owner != f)
+            continue;
+          const Vec3 x = core.vertex(v).position;
+          const double height = dot(x - origin, n);
+          const double cone_weight = dilated::vertex_cone_weight(core, v, -n, slack);
+          if (!(height < r) || !(cone_weight > 0))
+            continue;
+          FeatureContact contact;
+          contact.cone_weight = cone_weight;
+          contact.overlap = r - height;
+          contact.normal = n;
+          contact.point = x - (0.5 * (r + height)) * n;
+          contact.feature_a = keys.vertex(v);
+          contact.feature_b = 0;
+          sink.add(contact);
+        }
+      },
+      caps);
 }
 
 // The contacts of a dilated core with the inside of a cylinder (axis through `base` along the

@@ -29,8 +29,12 @@ struct DilatedCore {
   // Host only: the angle-weighted pseudonormals that sign the distance to the core (Baerentzen
   // and Aanaes, IEEE TVCG 11 (2005) 243): per vertex, and per edge the sum of its faces' normals.
   std::vector<Vec3> vertex_pseudonormals, edge_pseudonormals;
+  // The cone reach (cone_reach) the node caps were bound for; the walks use the caps for a
+  // slack of no greater reach. Negative: no caps.
+  double caps_reach = -1;
 
   double dilation() const { return radius; }
+  double cap_reach() const { return caps_reach; }
   FeatureNumbering numbering() const { return {int(vertices.size()), int(edges.size())}; }
   const CoreVertex& vertex(int k) const { return vertices[std::size_t(k)]; }
   const CoreEdge& edge(int k) const { return edges[std::size_t(k)]; }
@@ -197,7 +201,148 @@ struct TreeBuilder {
   }
 };
 
+// A half-space of directions: d . normal <= limit.
+struct DirectionBound {
+  Vec3 normal;
+  double limit = 0;
+};
+using DirectionRegion = std::vector<DirectionBound>;
+
+// Feasibility is tested with this slack, so that rounding errs towards a wider region.
+constexpr double region_tolerance = 1e-9;
+
+inline bool in_region(Vec3 d, const DirectionRegion& region) {
+  for (const DirectionBound& b : region)
+    if (dot(d, b.normal) > b.limit + region_tolerance)
+      return false;
+  return true;
+}
+
+// The cosine of the largest angle from `axis` (unit) of the unit directions in the region: -1
+// where it holds -axis, above 1 (2) where it is empty. The largest angle over a closed region of
+// the sphere not holding -axis lies on its boundary: at the point of one bounding circle
+// (d . normal = limit) farthest from the axis, or where two such circles cross.
+inline double least_cosine_from(Vec3 axis, const DirectionRegion& region) {
+  if (in_region(-1.0 * axis, region))
+    return -1.0;
+  double least = 2.0;
+  const auto consider = [&](Vec3 d) {
+    if (in_region(d, region))
+      least = std::min(least, dot(d, axis));
+  };
+  for (const DirectionBound& b : region) {
+    if (!(std::fabs(b.limit) < 1))
+      continue; // the whole sphere or nothing: no circle
+    const double across = std::sqrt(1 - b.limit * b.limit);
+    Vec3 away = axis - dot(axis, b.normal) * b.normal;
+    if (!(norm(away) > 1e-12)) // axis along the normal: every point of the circle alike
+      away = std::fabs(b.normal.x) < 0.9 ? cross(b.normal, Vec3{1, 0, 0})
+                                         : cross(b.normal, Vec3{0, 1, 0});
+    consider(b.limit * b.normal - (across / norm(away)) * away);
+  }
+  for (std::size_t i = 0; i < region.size(); ++i)
+    for (std::size_t j = i + 1; j < region.size(); ++j) {
+      const DirectionBound &p = region[i], &q = region[j];
+      const double c = dot(p.normal, q.normal), sine2 = 1 - c * c;
+      if (!(sine2 > 1e-15))
+        continue; // parallel circles do not cross
+      const double x = (p.limit - c * q.limit) / sine2, y = (q.limit - c * p.limit) / sine2;
+      const Vec3 in_plane = x * p.normal + y * q.normal;
+      const double height2 = 1 - norm2(in_plane);
+      if (!(height2 >= 0))
+        continue;
+      const Vec3 up = (std::sqrt(height2) / std::sqrt(sine2)) * cross(p.normal, q.normal);
+      consider(in_plane + up);
+      consider(in_plane - up);
+    }
+  return least;
+}
+
+// The outward directions (at the feature, towards the other body) in which the features face f
+// tests (the face, and the edges and vertices it owns) can meet another body: where their
+// ConeSlack weights are not 0 for a slack of cone reach `reach` (ConeSlack::weight: 0 where
+// the excursion out of the cone, a sine, reaches it). A reflex edge meets nothing. The closest
+// points of an edge's interior are joined at right angles to it, to within `across_edge`.
+inline std::vector<DirectionRegion> face_feature_regions(const DilatedCore& core, int f,
+                                                         double reach) {
+  constexpr double across_edge = 1e-6;
+  std::vector<DirectionRegion> regions;
+  const CoreFace& face = core.face(f);
+  const double face_cosine = reach < 1 ? std::sqrt(1 - reach * reach) : 0.0;
+  regions.push_back({{-1.0 * face.normal, -face_cosine}});
+  for (int k = 0; k < 3; ++k) {
+    const CoreEdge& edge = core.edge(face.edge[k]);
+    if (edge.owner == f && edge.convex) {
+      const Vec3 along =
+          unit(core.vertex(edge.vertex[1]).position - core.vertex(edge.vertex[0]).position);
+      regions.push_back({{edge.inward[0], reach},
+                         {edge.inward[1], reach},
+                         {along, across_edge},
+                         {-1.0 * along, across_edge}});
+    }
+    const CoreVertex& vertex = core.vertex(face.vertex[k]);
+    if (vertex.owner == f) {
+      DirectionRegion region;
+      for (int m = 0; m < vertex.cone_count; ++m)
+        region.push_back({core.cone(vertex.cone_first + m), reach});
+      if (!vertex.convex)
+        region.push_back({-1.0 * vertex.outward, 0.0});
+      regions.push_back(region);
+    }
+  }
+  return regions;
+}
+
+// Sets the cap of node `index` and those below it from the regions of each face; returns the
+// node's faces.
+struct CapBuilder {
+  DilatedCore& core;
+  std::vector<std::vector<DirectionRegion>> regions; // per face
+
+  std::vector<int> bound(int index) {
+    SphereNode& node = core.nodes[std::size_t(index)];
+    std::vector<int> faces;
+    if (node.left < 0) {
+      faces.push_back(node.right);
+    } else {
+      faces = bound(node.left);
+      const std::vector<int> right = bound(node.right);
+      faces.insert(faces.end(), right.begin(), right.end());
+    }
+    Vec3 sum{};
+    for (int f : faces) {
+      const CoreFace& face = core.face(f);
+      const Vec3 a = core.vertex(face.vertex[0]).position;
+      sum += norm(cross(core.vertex(face.vertex[1]).position - a,
+                        core.vertex(face.vertex[2]).position - a)) *
+             face.normal;
+    }
+    node.cap_axis = norm(sum) > 0 ? unit(sum) : core.face(faces.front()).normal;
+    double least = 1.0;
+    for (int f : faces)
+      for (const DirectionRegion& region : regions[std::size_t(f)])
+        least = std::min(least, least_cosine_from(node.cap_axis, region));
+    const double angle = std::acos(std::max(-1.0, least)) + region_tolerance;
+    node.cap_cos = angle < pi_value ? std::cos(angle) : -1.0;
+    node.cap_sin = angle < pi_value ? std::sin(angle) : 0.0;
+    return faces;
+  }
+  static constexpr double pi_value = 3.14159265358979323846;
+};
+
 } // namespace dilated_build
+
+// Bounds every node's cap (SphereNode) for contacts weighed with `slack` or any slack of no
+// greater cone reach.
+inline void bound_normal_cones(DilatedCore& core, const ConeSlack& slack) {
+  using namespace dilated_build;
+  const double reach = cone_reach(slack);
+  CapBuilder caps{core, {}};
+  for (int f = 0; f < int(core.faces.size()); ++f)
+    caps.regions.push_back(face_feature_regions(core, f, reach));
+  caps.bound(0);
+  core.caps_reach = reach;
+}
 
 // Edges meeting at an angle this close to flat (cosine of the dihedral deviation) count as flat,
 // hence convex: the two triangles of a flat quad, or nearly flat parts of a fine mesh.
@@ -318,6 +463,7 @@ inline DilatedCore build_dilated_core(std::vector<Vec3> points,
   std::iota(order.begin(), order.end(), 0);
   tree.build(order.begin(), order.end());
   core.nodes = std::move(tree.nodes);
+  bound_normal_cones(core, ConeSlack{});
   return core;
 }
 

@@ -60,4 +60,11 @@ KOKKOS_INLINE_FUNCTION double max(double a, double b) {
 KOKKOS_INLINE_FUNCTION double clamp(double v, double lo, double hi) {
   return v < lo ? lo : (v > hi ? hi : v);
 }
+// 1 - 3 t^2 + 2 t^3 on [0, 1], 1 before and 0 after (and for NaN): a smooth step from 1 at 0 to
+// 0 at 1 with zero slope at both ends.
+KOKKOS_INLINE_FUNCTION double falloff(double t) {
+  if (!(t < 1))
+    return 0;
+  return t <= 0 ? 1.0 : 1.0 - t * t * (3.0 - 2.0 * t);
+}
 } // namespace kdem::math

@@ -85,16 +85,19 @@ std::vector<ShapeTemplate> DilatedPolyhedronFamily::setup_templates(const Family
   std::vector<std::vector<CoreFace>> faces;
   std::vector<std::vector<Vec3>> cones;
   std::vector<std::vector<SphereNode>> nodes;
-  std::vector<double> dilation, equivalent;
+  std::vector<double> dilation, caps_reach, equivalent;
   std::vector<ShapeTemplate> templates;
+  table.settings = contact_settings(family.settings);
   for (const ShapeConfig* shape : family.shapes) {
     PrincipalCore made = principal_core(*shape);
+    bound_normal_cones(made.core, table.settings.slack);
     vertices.push_back(made.core.vertices);
     edges.push_back(made.core.edges);
     faces.push_back(made.core.faces);
     cones.push_back(made.core.cones);
     nodes.push_back(made.core.nodes);
     dilation.push_back(made.core.radius);
+    caps_reach.push_back(made.core.caps_reach);
     equivalent.push_back(made.host.equivalent_radius);
     templates.push_back(std::move(made.host));
   }
@@ -104,8 +107,8 @@ std::vector<ShapeTemplate> DilatedPolyhedronFamily::setup_templates(const Family
   table.cones = upload_ragged<Vec3>("dilated_cones", cones);
   table.nodes = upload_ragged<SphereNode>("dilated_nodes", nodes);
   table.dilation = upload<double>("dilated_dilation", dilation);
+  table.caps_reach = upload<double>("dilated_caps_reach", caps_reach);
   table.equivalent_radius = upload<double>("dilated_equivalent_radius", equivalent);
-  table.settings = contact_settings(family.settings);
   return templates;
 }
 

@@ -37,8 +37,10 @@ struct DeviceCore {
   const SphereNode* nodes = nullptr;
   int vertex_count = 0, edge_count = 0;
   double radius = 0;
+  double caps_reach = -1; // see DilatedCore::caps_reach
 
   KOKKOS_INLINE_FUNCTION double dilation() const { return radius; }
+  KOKKOS_INLINE_FUNCTION double cap_reach() const { return caps_reach; }
   KOKKOS_INLINE_FUNCTION FeatureNumbering numbering() const { return {vertex_count, edge_count}; }
   KOKKOS_INLINE_FUNCTION const CoreVertex& vertex(int k) const { return vertices[k]; }
   KOKKOS_INLINE_FUNCTION const CoreEdge& edge(int k) const { return edges[k]; }
@@ -68,6 +70,7 @@ struct DilatedPolyhedronFamily {
     RaggedTable<Vec3> cones;
     RaggedTable<SphereNode> nodes;
     ScalarView dilation;          // m, per template
+    ScalarView caps_reach;        // per template: DilatedCore::caps_reach
     ScalarView equivalent_radius; // m, of the sphere of the dilated body's volume, per template
     DilatedContactSettings settings;
   };
@@ -89,6 +92,7 @@ struct DilatedPolyhedronFamily {
     c.vertex_count = t.vertices.size(k);
     c.edge_count = t.edges.size(k);
     c.radius = t.dilation(k);
+    c.caps_reach = t.caps_reach(k);
     return c;
   }
 
