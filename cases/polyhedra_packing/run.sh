@@ -8,7 +8,7 @@
 #                                      [--duration T]
 #   defaults: build/openmp/bin/kdem and the book's set-up: 2000 particles in the 0.6 x 0.6 m
 #   container, placed over its full 2 m, 4 s. The run reported in README.md:
-#   --count 250 --width 0.3 --height 1.4 --duration 1.0 (about 35 min on one thread).
+#   --count 250 --width 0.3 --height 1.4 --duration 1.0 (about 15 min on one thread).
 # Run outputs go to out/polyhedra_packing/ (git-ignored). One thread (OMP_NUM_THREADS=1 unless
 # set); see README.md for the wall time.
 set -euo pipefail
