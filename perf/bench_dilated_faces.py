@@ -6,8 +6,10 @@ poured into a box and settled (`--settle` seconds), then restarted from its chec
 Spheres of the same volume-equivalent radius in the same box are the reference.
 
 usage: bench_dilated_faces.py [--kdem PATH] [--count N] [--nodes 50,200,...] [--steps S]
-                              [--repeat R] [--settle T] [--out FILE.json]
-Writes the JSON (atomically) and a plot beside it."""
+                              [--repeat R] [--settle T] [--out FILE.json] [--reuse]
+Writes the JSON (atomically) and a plot beside it. --reuse: a node count whose settling and
+timed runs are all in the work folder already is read from there instead of run again (to
+gather a series run in parts)."""
 import argparse
 import json
 import os
@@ -59,7 +61,11 @@ def shape_entry(nodes):
             f"c: {c}, n1: 2, n2: 2}}, nodes: {nodes}, dilation_radius: {DILATION}}}")
 
 
-def run(kdem, scene_path, out, extra=()):
+def run(kdem, scene_path, out, extra=(), reuse=False):
+    done = os.path.join(out, "run.json")
+    if reuse and os.path.exists(done):
+        with open(done) as f:
+            return json.load(f)
     env = dict(os.environ, OMP_NUM_THREADS="1", OMP_PROC_BIND="false")
     subprocess.run([kdem, "run", scene_path, "--out", out, "--quiet", *extra], check=True, env=env)
     with open(os.path.join(out, "run.json")) as f:
@@ -76,6 +82,7 @@ def main():
     parser.add_argument("--settle", type=float, default=0.12)
     parser.add_argument("--out", default=os.path.join(ROOT, "perf/results/dilated_faces.json"))
     parser.add_argument("--work", default=os.path.join(ROOT, "out/bench_dilated_faces"))
+    parser.add_argument("--reuse", action="store_true")
     args = parser.parse_args()
     os.makedirs(args.work, exist_ok=True)
     rows = []
@@ -84,7 +91,7 @@ def main():
         path = os.path.join(args.work, name + ".yaml")
         with open(path, "w") as f:
             f.write(scene(shape_entry(nodes), args.count, args.settle, os.path.join(args.work, name)))
-        settled = run(args.kdem, path, os.path.join(args.work, name, "settle"))
+        settled = run(args.kdem, path, os.path.join(args.work, name, "settle"), reuse=args.reuse)
         checkpoint = os.path.join(args.work, name, "settle", "checkpoint.h5")
         # The same scene, its duration `--steps` steps longer: the restart runs those.
         timed_path = os.path.join(args.work, name + "_timed.yaml")
@@ -95,7 +102,7 @@ def main():
         rates = []
         for r in range(args.repeat):
             timed = run(args.kdem, timed_path, os.path.join(args.work, name, f"timed_{r}"),
-                        ("--restart", checkpoint))
+                        ("--restart", checkpoint), reuse=args.reuse)
             rates.append(timed["particle_steps_per_second"])
         rate = statistics.median(rates)
         rows.append({"nodes": nodes, "faces": 2 * nodes - 4 if nodes else 0,
