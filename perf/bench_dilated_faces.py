@@ -7,9 +7,11 @@ Spheres of the same volume-equivalent radius in the same box are the reference.
 
 usage: bench_dilated_faces.py [--kdem PATH] [--count N] [--nodes 50,200,...] [--steps S]
                               [--repeat R] [--settle T] [--out FILE.json] [--reuse]
+                              [--settle-only]
 Writes the JSON (atomically) and a plot beside it. --reuse: a node count whose settling and
 timed runs are all in the work folder already is read from there instead of run again (to
-gather a series run in parts)."""
+gather a series run in parts). --settle-only: settle the beds and stop (settling is not timed, so
+beds may settle side by side; the timed restarts then run alone with --reuse)."""
 import argparse
 import json
 import os
@@ -83,6 +85,7 @@ def main():
     parser.add_argument("--out", default=os.path.join(ROOT, "perf/results/dilated_faces.json"))
     parser.add_argument("--work", default=os.path.join(ROOT, "out/bench_dilated_faces"))
     parser.add_argument("--reuse", action="store_true")
+    parser.add_argument("--settle-only", action="store_true")
     args = parser.parse_args()
     os.makedirs(args.work, exist_ok=True)
     rows = []
@@ -92,6 +95,8 @@ def main():
         with open(path, "w") as f:
             f.write(scene(shape_entry(nodes), args.count, args.settle, os.path.join(args.work, name)))
         settled = run(args.kdem, path, os.path.join(args.work, name, "settle"), reuse=args.reuse)
+        if args.settle_only:
+            continue
         checkpoint = os.path.join(args.work, name, "settle", "checkpoint.h5")
         # The same scene, its duration `--steps` steps longer: the restart runs those.
         timed_path = os.path.join(args.work, name + "_timed.yaml")
@@ -114,6 +119,8 @@ def main():
                      "git_hash": timed["git_hash"]})
         print(f"{name}: {1e6 / rate:.2f} us per particle-step, {timed['extra'].get('pair_contacts')}"
               " pair contacts", file=sys.stderr)
+    if args.settle_only:
+        return
     result = {"benchmark": "dilated_faces", "count": args.count, "steps": args.steps,
               "repeat": args.repeat, "settle_seconds": args.settle, "threads": 1, "runs": rows}
     tmp = args.out + ".tmp"

@@ -1,0 +1,87 @@
+#pragma once
+// Level-set bodies (book chapter 5; digest ch4_5 part B): a signed-distance grid in the body
+// frame (negative inside) and points on its zero level set. Host and device.
+//
+// A contact is a surface point of one body found inside the other body's grid with a negative
+// interpolated value; the value is the overlap and its gradient the normal (digest B5).
+#include "math.hpp"
+#include "vec3.hpp"
+
+namespace kdem {
+
+// A uniform grid of nodes: node (i, j, k) at origin + spacing (i, j, k), 0 <= i < nx etc., its
+// value at flat index i + nx (j + ny k).
+struct LevelSetGrid {
+  Vec3 origin;
+  double spacing = 0;
+  int nx = 0, ny = 0, nz = 0;
+
+  KOKKOS_INLINE_FUNCTION int index(int i, int j, int k) const { return i + nx * (j + ny * k); }
+  KOKKOS_INLINE_FUNCTION int nodes() const { return nx * ny * nz; }
+  KOKKOS_INLINE_FUNCTION Vec3 node(int i, int j, int k) const {
+    return origin + spacing * Vec3{double(i), double(j), double(k)};
+  }
+  KOKKOS_INLINE_FUNCTION Vec3 far_corner() const { return node(nx - 1, ny - 1, nz - 1); }
+};
+
+// The interpolated signed distance and its gradient (per metre; not normalised).
+struct LevelSetSample {
+  double value = 0;
+  Vec3 gradient;
+};
+
+namespace level_set {
+
+// The cell holding coordinate t (in cells from the origin) along an axis of n nodes, and t's
+// fraction in it: the last cell takes its far face, so every t in [0, n - 1] has a cell.
+KOKKOS_INLINE_FUNCTION int cell_of(double t, int n, double& fraction) {
+  int c = int(math::floor(t));
+  if (c > n - 2)
+    c = n - 2;
+  fraction = t - double(c);
+  return c;
+}
+
+} // namespace level_set
+
+// Book Eqs. 5.12 to 5.16: trilinear interpolation of the node values of the cell holding p
+// (body frame) and its gradient, the derivative of the same trilinear form divided by the
+// spacing. Returns false, and leaves `sample` alone, when p lies outside the grid's box (or is
+// NaN): such a point is outside the body, since the grid holds the body with a margin.
+// Exact for a field affine in x, y and z.
+KOKKOS_INLINE_FUNCTION bool interpolate_level_set(const LevelSetGrid& grid, const double* values,
+                                                  Vec3 p, LevelSetSample& sample) {
+  const Vec3 t = (1.0 / grid.spacing) * (p - grid.origin);
+  if (!(t.x >= 0 && t.y >= 0 && t.z >= 0 && t.x <= grid.nx - 1 && t.y <= grid.ny - 1 &&
+        t.z <= grid.nz - 1))
+    return false;
+  double x, y, z;
+  const int i = level_set::cell_of(t.x, grid.nx, x);
+  const int j = level_set::cell_of(t.y, grid.ny, y);
+  const int k = level_set::cell_of(t.z, grid.nz, z);
+  double v[2][2][2];
+  for (int c = 0; c < 2; ++c)
+    for (int b = 0; b < 2; ++b)
+      for (int a = 0; a < 2; ++a)
+        v[a][b][c] = values[grid.index(i + a, j + b, k + c)];
+  // Linear in x first, then y, then z: the value and the three partial derivatives.
+  double vx[2][2], dx[2][2];
+  for (int c = 0; c < 2; ++c)
+    for (int b = 0; b < 2; ++b) {
+      vx[b][c] = v[0][b][c] + x * (v[1][b][c] - v[0][b][c]);
+      dx[b][c] = v[1][b][c] - v[0][b][c];
+    }
+  double vy[2], dy[2], dxy[2];
+  for (int c = 0; c < 2; ++c) {
+    vy[c] = vx[0][c] + y * (vx[1][c] - vx[0][c]);
+    dy[c] = vx[1][c] - vx[0][c];
+    dxy[c] = dx[0][c] + y * (dx[1][c] - dx[0][c]);
+  }
+  const double per_metre = 1.0 / grid.spacing;
+  sample.value = vy[0] + z * (vy[1] - vy[0]);
+  sample.gradient =
+      per_metre * Vec3{dxy[0] + z * (dxy[1] - dxy[0]), dy[0] + z * (dy[1] - dy[0]), vy[1] - vy[0]};
+  return true;
+}
+
+} // namespace kdem
