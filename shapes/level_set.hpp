@@ -3,7 +3,11 @@
 // frame (negative inside) and points on its zero level set. Host and device.
 //
 // A contact is a surface point of one body found inside the other body's grid with a negative
-// interpolated value; the value is the overlap and its gradient the normal (digest B5).
+// interpolated value; the value is the overlap and its gradient the normal (digest B5). Contacts
+// are FeatureContacts (shapes/dilated_polyhedron.hpp): normal from body B towards body A, the
+// point midway between the surfaces, a surface point's key 1 + its index (0: no point of that
+// body).
+#include "dilated_polyhedron.hpp"
 #include "math.hpp"
 #include "vec3.hpp"
 
@@ -82,6 +86,102 @@ KOKKOS_INLINE_FUNCTION bool interpolate_level_set(const LevelSetGrid& grid, cons
   sample.gradient =
       per_metre * Vec3{dxy[0] + z * (dxy[1] - dxy[0]), dy[0] + z * (dy[1] - dy[0]), vy[1] - vy[0]};
   return true;
+}
+
+// A level-set body as the contact code reads it: its grid and surface points (body frame).
+struct LevelSetBodyView {
+  LevelSetGrid grid;
+  const double* values = nullptr;
+  const Vec3* points = nullptr;
+  int point_count = 0;
+  double reach = 0; // m, bounding radius about the body origin: no point beyond is inside
+
+  KOKKOS_INLINE_FUNCTION bool sample(Vec3 p, LevelSetSample& s) const {
+    return norm2(p) < reach * reach && interpolate_level_set(grid, values, p, s);
+  }
+};
+
+namespace level_set {
+
+// The unit outward normal at x from a sample: the gradient, or (where it vanishes, on a
+// symmetry plane deep inside) the direction from the body's origin.
+KOKKOS_INLINE_FUNCTION Vec3 outward(const LevelSetSample& s, Vec3 x) {
+  const double length = norm(s.gradient);
+  if (length > 0)
+    return (1.0 / length) * s.gradient;
+  const double from_origin = norm(x);
+  return from_origin > 0 ? (1.0 / from_origin) * x : Vec3{0, 0, 1};
+}
+
+} // namespace level_set
+
+// The surface points of body B (pose: B's frame in A's) inside body A's grid, as contacts in A's
+// frame: overlap minus the interpolated value, normal minus A's outward normal there (from B
+// towards A), point half the overlap out of A along it; keys (0, 1 + point index).
+template <class Sink>
+KOKKOS_INLINE_FUNCTION void points_inside(const LevelSetBodyView& a, const LevelSetBodyView& b,
+                                          const RelativePose& pose, Sink& sink) {
+  for (int q = 0; q < b.point_count; ++q) {
+    const Vec3 x = pose.point(b.points[q]);
+    LevelSetSample s;
+    if (!a.sample(x, s) || !(s.value < 0))
+      continue;
+    const Vec3 out = level_set::outward(s, x);
+    FeatureContact c;
+    c.overlap = -s.value;
+    c.normal = -out;
+    c.point = x + (0.5 * c.overlap) * out;
+    c.feature_a = 0;
+    c.feature_b = 1 + q;
+    sink.add(c);
+  }
+}
+
+// The surface points of a body (its frame) beyond the plane through `origin` with unit normal n
+// (pointing out of the wall, into the body's side): overlap the depth, normal n, point half the
+// depth back towards the wall; keys (1 + point index, 0).
+template <class Sink>
+KOKKOS_INLINE_FUNCTION void points_beyond_plane(const LevelSetBodyView& body, Vec3 origin, Vec3 n,
+                                                Sink& sink) {
+  for (int q = 0; q < body.point_count; ++q) {
+    const Vec3 x = body.points[q];
+    const double height = dot(x - origin, n);
+    if (!(height < 0))
+      continue;
+    FeatureContact c;
+    c.overlap = -height;
+    c.normal = n;
+    c.point = x + (0.5 * c.overlap) * n;
+    c.feature_a = 1 + q;
+    c.feature_b = 0;
+    sink.add(c);
+  }
+}
+
+// The surface points of a body (its frame) beyond the curved wall of a cylinder seen from inside
+// (axis through `base` along the unit `axis`, radius, length from the base): overlap the depth,
+// normal towards the axis; keys (1 + point index, 0).
+template <class Sink>
+KOKKOS_INLINE_FUNCTION void points_beyond_cylinder(const LevelSetBodyView& body, Vec3 base,
+                                                   Vec3 axis, double radius, double length,
+                                                   Sink& sink) {
+  for (int q = 0; q < body.point_count; ++q) {
+    const Vec3 x = body.points[q];
+    const Vec3 from_base = x - base;
+    const double along = dot(from_base, axis);
+    const Vec3 out = from_base - along * axis;
+    const double rho = norm(out);
+    if (!(rho > radius) || !(along >= 0 && along <= length))
+      continue;
+    const Vec3 outward = (1.0 / rho) * out;
+    FeatureContact c;
+    c.overlap = rho - radius;
+    c.normal = -outward;
+    c.point = x - (0.5 * c.overlap) * outward;
+    c.feature_a = 1 + q;
+    c.feature_b = 0;
+    sink.add(c);
+  }
 }
 
 } // namespace kdem

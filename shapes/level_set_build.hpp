@@ -241,6 +241,15 @@ inline std::vector<Vec3> surface_points(const DilatedCore& core, const LevelSetO
 
 } // namespace level_set_build
 
+// The mass properties of a closed mesh's interior (points in its frame), with the checks of
+// build_level_set.
+inline BodyMassProperties mesh_mass_properties(const std::vector<Vec3>& points,
+                                               const std::vector<std::array<int, 3>>& triangles) {
+  // The core's dilation radius plays no part in its volume.
+  return properties_of(level_set_build::mesh_moments(build_dilated_core(points, triangles, 1.0)),
+                       Vec3{});
+}
+
 // The level-set body of a closed mesh (points in the body frame). Throws std::invalid_argument
 // naming what is wrong: options out of range, a grid too large, or a mesh that is not a closed,
 // consistently oriented 2-manifold enclosing a volume (build_dilated_core's checks).
@@ -258,6 +267,7 @@ inline LevelSetBody build_level_set(const std::vector<Vec3>& points,
   body.mass = properties_of(mesh_moments(core), Vec3{});
   for (const CoreVertex& v : core.vertices)
     body.bounding_radius = std::max(body.bounding_radius, norm(v.position));
+  body.bounding_radius += std::sqrt(3.0) * options.spacing;
   return body;
 }
 

@@ -5,7 +5,11 @@
 
 #include <libqhull_r/qhull_ra.h>
 #include <vtkCellArray.h>
+#include <vtkDoubleArray.h>
+#include <vtkFlyingEdges3D.h>
+#include <vtkImageData.h>
 #include <vtkNew.h>
+#include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkQuadricDecimation.h>
@@ -475,6 +479,47 @@ TriangleMesh simplify_core(const TriangleMesh& mesh, int target_faces) {
   restore_kept_points(simplified, mesh.points, 1e-6 * frame.size);
   require_closed_and_wound(simplified, "the decimation");
   return simplified;
+}
+
+TriangleMesh zero_level_surface(const Point3& origin, double spacing,
+                                const std::array<int, 3>& nodes,
+                                const std::vector<double>& values) {
+  const std::size_t count = std::size_t(nodes[0]) * std::size_t(nodes[1]) * std::size_t(nodes[2]);
+  if (!(spacing > 0) || nodes[0] < 2 || nodes[1] < 2 || nodes[2] < 2 || values.size() != count)
+    throw std::invalid_argument("a grid needs a positive spacing, 2 nodes or more per axis and a "
+                                "value per node");
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(nodes[0], nodes[1], nodes[2]);
+  image->SetOrigin(origin[0], origin[1], origin[2]);
+  image->SetSpacing(spacing, spacing, spacing);
+  vtkNew<vtkDoubleArray> scalars;
+  scalars->SetNumberOfTuples(vtkIdType(count));
+  for (std::size_t k = 0; k < count; ++k)
+    scalars->SetValue(vtkIdType(k), values[k]);
+  image->GetPointData()->SetScalars(scalars);
+  vtkNew<vtkFlyingEdges3D> contour;
+  contour->SetInputData(image);
+  contour->SetValue(0, 0.0);
+  contour->ComputeNormalsOff();
+  contour->ComputeGradientsOff();
+  contour->ComputeScalarsOff();
+  contour->Update();
+  vtkPolyData* poly = contour->GetOutput();
+  TriangleMesh surface;
+  for (vtkIdType k = 0; k < poly->GetNumberOfPoints(); ++k) {
+    Point3 p;
+    poly->GetPoint(k, p.data());
+    surface.points.push_back(p);
+  }
+  vtkCellArray* cells = poly->GetPolys();
+  vtkIdType corner_count = 0;
+  const vtkIdType* corners = nullptr;
+  for (cells->InitTraversal(); cells->GetNextCell(corner_count, corners);)
+    if (corner_count == 3)
+      surface.triangles.push_back({int(corners[0]), int(corners[1]), int(corners[2])});
+  if (surface.triangles.empty())
+    throw std::invalid_argument("the grid holds no zero level set (no value changes sign)");
+  return surface;
 }
 
 double enclosed_volume(const TriangleMesh& mesh) {

@@ -57,6 +57,12 @@ TriangleMesh harmonic_core(const std::vector<HarmonicCoefficient>& coefficients,
 // consistently wound.
 TriangleMesh simplify_core(const TriangleMesh& mesh, int target_faces);
 
+// The zero level set of a grid of values (node (i, j, k) at origin + spacing (i, j, k), its
+// value at i + nx (j + ny k)) as a triangle mesh, by VTK's flying edges (marching cubes):
+// how a level-set body is drawn. Refuses a grid without a sign change.
+TriangleMesh zero_level_surface(const Point3& origin, double spacing,
+                                const std::array<int, 3>& nodes, const std::vector<double>& values);
+
 // The volume the mesh encloses (positive for an outward-wound closed mesh).
 double enclosed_volume(const TriangleMesh& mesh);
 

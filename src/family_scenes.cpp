@@ -4,6 +4,7 @@
 #include "clump_scene.hpp"
 #include "dilated_polyhedron_scene.hpp"
 #include "family_scene.hpp"
+#include "level_set_scene.hpp"
 #include "poly_superquadric_scene.hpp"
 #include "superquadric_scene.hpp"
 
@@ -11,7 +12,8 @@ namespace kdem {
 
 const std::vector<FamilyScene>& family_scenes() {
   static const std::vector<FamilyScene> scenes{superquadric_scene(), poly_superquadric_scene(),
-                                               clump_scene(), dilated_polyhedron_scene()};
+                                               clump_scene(), dilated_polyhedron_scene(),
+                                               level_set_scene()};
   return scenes;
 }
 

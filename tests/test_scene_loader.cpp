@@ -11,6 +11,7 @@
 
 #include "src/clump_scene.hpp"
 #include "src/dilated_polyhedron_scene.hpp"
+#include "src/level_set_scene.hpp"
 #include "src/poly_superquadric_scene.hpp"
 #include "src/scene_loader.hpp"
 #include "src/superquadric_scene.hpp"
@@ -506,7 +507,7 @@ TEST(SceneKeyErrors, UnknownTopLevelKeyListsTheAllowedKeysAndSuggestsOne) {
       minimal_scene_plus("durration: 1\n"), 14, "durration",
       "expected one of the keys time_step, duration, gravity, skin, sort_by_cell, domain, "
       "materials, interactions, shapes, superquadric_contact, poly_superquadric_contact, "
-      "clump_contact, dilated_polyhedron_contact, "
+      "clump_contact, dilated_polyhedron_contact, level_set_contact, "
       "particles, walls, outlets, output, checks, got the key "
       "\"durration\" (did you mean \"duration\"?)"));
 }
@@ -942,11 +943,11 @@ TEST(SceneShapes, AShapeNamesExactlyOneFamily) {
   const std::string none = "shapes:\n  - name: cube\n    tag: x\n";
   EXPECT_TRUE(fails_with(minimal_scene_plus(none), 16, "shapes[0].tag",
                          "expected one of the keys name, superquadric, poly_superquadric, clump, "
-                         "dilated_polyhedron, got the key \"tag\""));
+                         "dilated_polyhedron, level_set, got the key \"tag\""));
   std::string missing = "shapes:\n  - name: cube\n";
   EXPECT_TRUE(fails_with(minimal_scene_plus(missing), 15, "shapes[0]",
                          "expected exactly one of the keys superquadric, poly_superquadric, clump, "
-                         "dilated_polyhedron, got none"));
+                         "dilated_polyhedron, level_set, got none"));
 }
 
 TEST(SceneShapes, UnknownShapeNamesTheDefinedOnes) {
@@ -1166,6 +1167,52 @@ TEST(SceneDilatedPolyhedra, ContactSettingsAreReadAndChecked) {
   EXPECT_TRUE(fails_with(minimal_scene_plus("dilated_polyhedron_contact: {merge_distance: -1}\n"),
                          14, "dilated_polyhedron_contact.merge_distance",
                          "expected a fraction of the dilation radius in [0, 2]"));
+}
+
+// A level-set shape from a superquadric: its mesh (2000 nodes by default), the grid spacing a
+// twentieth of the mesh's smallest extent, the points as far apart as the grid's nodes, padding
+// 2; each can be given, and values out of range are refused with the key's path.
+TEST(SceneLevelSets, ShapeKeysAreReadWithTheirDefaults) {
+  const std::string entry = "shapes:\n  - name: grain\n    level_set: {superquadric: {a: 0.002, "
+                            "b: 0.0015, c: 0.001, n1: 2, n2: 4}";
+  const SceneConfig scene = load_text(minimal_scene_plus(entry + "}\n"));
+  const auto& shape = kdem::level_set_parameters(scene.shapes.at(0));
+  EXPECT_EQ(shape.triangles.size(), 2u * 2000 - 4);
+  EXPECT_NEAR(shape.grid_spacing, 2 * shape.smallest_size() / 20, 1e-18);
+  EXPECT_LT(std::fabs(shape.smallest_size() - 0.001), 1e-5); // the lattice's nodes reach +-c
+  EXPECT_EQ(shape.point_spacing, shape.grid_spacing);
+  EXPECT_EQ(shape.padding, 2);
+  const SceneConfig given = load_text(minimal_scene_plus(
+      entry + ", nodes: 300, grid_spacing: 1.0e-4, padding: 3, point_spacing: 2.0e-4}\n"));
+  const auto& chosen = kdem::level_set_parameters(given.shapes.at(0));
+  EXPECT_EQ(chosen.triangles.size(), 2u * 300 - 4);
+  EXPECT_EQ(chosen.grid_spacing, 1e-4);
+  EXPECT_EQ(chosen.padding, 3);
+  EXPECT_EQ(chosen.point_spacing, 2e-4);
+  EXPECT_TRUE(fails_with(
+      minimal_scene_plus(entry + ", grid_spacing: 0.01}\n"), 16, "shapes[0].level_set.grid_spacing",
+      "expected a spacing in m between 1e-3 and 1 of the mesh's smallest extent"));
+  EXPECT_TRUE(fails_with(minimal_scene_plus(entry + ", padding: 0}\n"), 16,
+                         "shapes[0].level_set.padding", "padding"));
+  EXPECT_TRUE(fails_with(minimal_scene_plus(entry + ", dilation_radius: 0.001}\n"), 16,
+                         "shapes[0].level_set.dilation_radius", "got the key"));
+}
+
+TEST(SceneLevelSets, ContactSettingsAreReadAndChecked) {
+  const SceneConfig scene = load_text(minimal_scene_plus(
+      "level_set_contact: {merge_distance: 0.25, averaging: summed, averaging_angle: 20, "
+      "points: one_way}\n"));
+  const auto& settings =
+      dynamic_cast<const kdem::LevelSetContactConfig&>(*scene.family_settings.at("level_set"));
+  EXPECT_EQ(settings.merge_distance, 0.25);
+  EXPECT_FALSE(settings.averaging);
+  EXPECT_EQ(settings.averaging_angle, 20);
+  EXPECT_FALSE(settings.both_ways);
+  const kdem::LevelSetContactConfig defaults;
+  EXPECT_TRUE(defaults.both_ways);
+  EXPECT_EQ(defaults.merge_distance, 0.5);
+  EXPECT_TRUE(fails_with(minimal_scene_plus("level_set_contact: {points: three_ways}\n"), 14,
+                         "level_set_contact.points", "three_ways"));
 }
 
 // A true/false key of superquadric_contact: on by default, off when set false, and anything

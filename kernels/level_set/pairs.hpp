@@ -1,0 +1,170 @@
+#pragma once
+// The pair types with level-set bodies, as narrow-phase functors of the one pair loop
+// (families/pair_loop.hpp): a sphere against a level-set body, and two level-set bodies.
+// After the bodies' bounding spheres, a level-set body's surface points are tested against the
+// other body: against a sphere's exact distance, against another level-set body's grid (digest
+// B5), in the frame of body a; a sphere's centre is also tested against the grid, which finds a
+// sphere smaller than the points' spacing. The penetrating points are merged into patches
+// (level_set_patches), each a contact point keyed by its deepest point, weighted by the book's
+// averaging. The Hertz radius is that of the volume-equivalent spheres in series (Eq. 5.17).
+// Included only by the translation units of kernels/pairs/.
+#include "../dilated_polyhedron/pairs.hpp"
+#include "../families/pair_loop.hpp"
+#include "family.hpp"
+
+namespace kdem {
+
+// Hands on contacts found with the bodies' roles swapped (in b's frame, normals from a towards
+// b, keys (b's, a's)) in a's frame with the pair's order.
+template <int K> struct SwappedContactSink {
+  DeepestContacts<K>& deepest;
+  RelativePose b_in_a;
+  KOKKOS_INLINE_FUNCTION void add(FeatureContact c) const {
+    c.normal = -(b_in_a.rotation * c.normal);
+    c.point = b_in_a.point(c.point);
+    const int key_b = c.feature_a;
+    c.feature_a = c.feature_b;
+    c.feature_b = key_b;
+    deepest.add(c);
+  }
+};
+
+struct LevelSetPairState {
+  ParticleViews p;
+  ShapeFamilies shapes;
+  LevelSetFamily::Table table;
+  int team_size = 0;
+
+  explicit LevelSetPairState(const ContactContext& c)
+      : p(c.particles), shapes(c.shape_families), table(c.table<LevelSetFamily>()) {}
+
+  KOKKOS_INLINE_FUNCTION bool bounding_spheres_apart(const PairRef& r) const {
+    const double reach = p.radius(r.i) + p.radius(r.j);
+    return !(norm2(load3(p.position, r.i) - load3(p.position, r.j)) < reach * reach);
+  }
+
+  // The patches found in the frame (rotation, origin) turned into the world and into `found`,
+  // with their weights; normals from b towards a.
+  template <int K>
+  KOKKOS_INLINE_FUNCTION PairOutcome finish(const DeepestContacts<K>& deepest, const Mat3& rotation,
+                                            Vec3 origin, double radius,
+                                            PairContacts<K>& found) const {
+    if (deepest.count == 0)
+      return PairOutcome::apart;
+    for (int c = 0; c < deepest.count; ++c) {
+      const FeatureContact& f = deepest.contact[c];
+      PairContact& contact = found.add();
+      contact.geometry =
+          ContactGeometry{true, f.overlap, rotation * f.normal, origin + rotation * f.point};
+      contact.effective_radius = radius;
+      contact.feature_a = f.feature_a;
+      contact.feature_b = f.feature_b;
+    }
+    deepest.weights(table.settings.averaging,
+                    [&](int c, double w) { found.contact[c].weight = w; });
+    return PairOutcome::touching;
+  }
+};
+
+// A sphere (body a, centre c and radius r in b's frame) against a level-set body b: the centre
+// in b's grid (overlap r minus the value there, key (0, 0)), and where the centre lies beyond
+// the grid, b's surface points inside the sphere (overlap r minus their distance from c, normal
+// along the line from the point to c, keys (0, 1 + point index)). Contacts in b's frame, normals
+// from b towards a.
+template <class Sink>
+KOKKOS_INLINE_FUNCTION void sphere_level_set_contacts(const LevelSetBodyView& b, Vec3 centre,
+                                                      double radius, Sink& sink) {
+  LevelSetSample s;
+  if (interpolate_level_set(b.grid, b.values, centre, s)) {
+    if (!(s.value < radius))
+      return;
+    const Vec3 out = level_set::outward(s, centre);
+    FeatureContact c;
+    c.overlap = radius - s.value;
+    c.normal = out;
+    c.point = centre - (radius - 0.5 * c.overlap) * out;
+    c.feature_a = 0;
+    c.feature_b = 0;
+    sink.add(c);
+    return;
+  }
+  for (int q = 0; q < b.point_count; ++q) {
+    const Vec3 x = b.points[q];
+    const double distance = norm(centre - x);
+    if (!(distance < radius) || !(distance > 0))
+      continue;
+    FeatureContact c;
+    c.overlap = radius - distance;
+    c.normal = (1.0 / distance) * (centre - x);
+    c.point = x - (0.5 * c.overlap) * c.normal;
+    c.feature_a = 0;
+    c.feature_b = 1 + q;
+    sink.add(c);
+  }
+}
+
+template <>
+struct NarrowPhase<SphereFamily, LevelSetFamily> : LevelSetPairState, EveryRowOfTheType {
+  static constexpr const char* label = "kdem::sphere_level_set_forces";
+  static constexpr bool tallied = true;
+  static constexpr int max_contacts = pair_contact_points<SphereFamily, LevelSetFamily>;
+
+  explicit NarrowPhase(const ContactContext& c) : LevelSetPairState(c) {}
+
+  KOKKOS_INLINE_FUNCTION PairOutcome operator()(const PairRef& r, PairContacts<max_contacts>& found,
+                                                NarrowPhaseTally& tally) const {
+    if (bounding_spheres_apart(r))
+      return PairOutcome::apart;
+    ++tally.evaluations;
+    const LevelSetBodyView body = LevelSetFamily::body(table, shapes, p, r.b);
+    const Mat3 rotation = rotation_matrix(load_quat(p.orientation, r.b));
+    const Vec3 origin = load3(p.position, r.b);
+    const double radius_b = LevelSetFamily::equivalent_radius(table, shapes, p, r.b);
+    auto deepest =
+        level_set_patches<max_contacts>(table.settings, math::min(p.radius(r.a), radius_b));
+    sphere_level_set_contacts(body, transpose_times(rotation, load3(p.position, r.a) - origin),
+                              p.radius(r.a), deepest);
+    return finish(deepest, rotation, origin, equivalent_series_radius(p.radius(r.a), radius_b),
+                  found);
+  }
+};
+
+// Two level-set bodies, in a's frame: b's points in a's grid and, both ways, a's points in b's.
+template <>
+struct NarrowPhase<LevelSetFamily, LevelSetFamily> : LevelSetPairState, EveryRowOfTheType {
+  static constexpr const char* label = "kdem::level_set_forces";
+  static constexpr bool tallied = true;
+  static constexpr int max_contacts = pair_contact_points<LevelSetFamily, LevelSetFamily>;
+
+  explicit NarrowPhase(const ContactContext& c) : LevelSetPairState(c) {}
+
+  KOKKOS_INLINE_FUNCTION PairOutcome operator()(const PairRef& r, PairContacts<max_contacts>& found,
+                                                NarrowPhaseTally& tally) const {
+    if (bounding_spheres_apart(r))
+      return PairOutcome::apart;
+    ++tally.evaluations;
+    const LevelSetBodyView body_a = LevelSetFamily::body(table, shapes, p, r.a);
+    const LevelSetBodyView body_b = LevelSetFamily::body(table, shapes, p, r.b);
+    const Mat3 rotation_a = rotation_matrix(load_quat(p.orientation, r.a));
+    const Mat3 rotation_b = rotation_matrix(load_quat(p.orientation, r.b));
+    const Vec3 origin_a = load3(p.position, r.a), origin_b = load3(p.position, r.b);
+    const RelativePose b_in_a{transpose(rotation_a) * rotation_b,
+                              transpose_times(rotation_a, origin_b - origin_a)};
+    const RelativePose a_in_b{transpose(rotation_b) * rotation_a,
+                              transpose_times(rotation_b, origin_a - origin_b)};
+    const double radius_a = LevelSetFamily::equivalent_radius(table, shapes, p, r.a);
+    const double radius_b = LevelSetFamily::equivalent_radius(table, shapes, p, r.b);
+    auto deepest = level_set_patches<max_contacts>(table.settings, math::min(radius_a, radius_b));
+    // One way: the points of the body of the higher index (j) in the other's grid.
+    if (table.settings.both_ways || r.b == r.j)
+      points_inside(body_a, body_b, b_in_a, deepest);
+    if (table.settings.both_ways || r.a == r.j) {
+      SwappedContactSink<max_contacts> swapped{deepest, b_in_a};
+      points_inside(body_b, body_a, a_in_b, swapped);
+    }
+    return finish(deepest, rotation_a, origin_a, equivalent_series_radius(radius_a, radius_b),
+                  found);
+  }
+};
+
+} // namespace kdem
