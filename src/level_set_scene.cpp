@@ -20,12 +20,14 @@ using namespace scene_yaml;
 // The family's key in a shape entry and in SceneConfig::family_settings (LevelSetFamily::name).
 const char* const family_name = "level_set";
 
-// A superquadric or harmonic mesh of 2000 nodes lies within about 1e-3 of the body's size of its
-// surface, well below the default grid spacing's trilinear error.
-constexpr int default_node_count = 2000;
-// The default grid spacing, as a fraction of the mesh's smallest extent (Duriez and Bonelli 2021:
-// accuracy wants at most a tenth of the particle's size).
-constexpr double default_cells_across = 20;
+// Chosen from the speed-against-error study (docs/performance.md, section 28): two level-set
+// superquadrics overlapping by 1 % of their size. The mesh's faceting sets a floor on the overlap
+// error (about 17 % of that overlap at 2000 nodes, 4 to 7 % at 8000); at 8000 nodes, a grid of 40
+// cells across the smallest extent and points 2 cells apart err by a median 9 to 13 % with
+// about 2000 points and 1.5 to 1.8 MiB of grid per shape; 20 cells err by 14 to 21 %.
+constexpr int default_node_count = 8000;
+constexpr double default_cells_across = 40;
+constexpr double default_point_spacing_in_cells = 2;
 
 std::shared_ptr<const FamilyShapeParameters> read_level_set(const Value& value) {
   auto shape = std::make_shared<LevelSetShapeParameters>();
@@ -48,7 +50,7 @@ std::shared_ptr<const FamilyShapeParameters> read_level_set(const Value& value) 
       found->expected("a whole number of cells in [1, 100]");
     shape->padding = int(padding);
   }
-  shape->point_spacing = shape->grid_spacing;
+  shape->point_spacing = default_point_spacing_in_cells * shape->grid_spacing;
   if (auto found = map.find("point_spacing"))
     shape->point_spacing =
         number_where(*found, "a spacing in m between 1e-3 and 1 of the mesh's smallest extent",

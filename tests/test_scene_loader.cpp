@@ -1169,18 +1169,18 @@ TEST(SceneDilatedPolyhedra, ContactSettingsAreReadAndChecked) {
                          "expected a fraction of the dilation radius in [0, 2]"));
 }
 
-// A level-set shape from a superquadric: its mesh (2000 nodes by default), the grid spacing a
-// twentieth of the mesh's smallest extent, the points as far apart as the grid's nodes, padding
-// 2; each can be given, and values out of range are refused with the key's path.
+// A level-set shape from a superquadric: its mesh (8000 nodes by default), the grid spacing a
+// fortieth of the mesh's smallest extent, the points two grid spacings apart, padding 2; each can
+// be given, and values out of range are refused with the key's path.
 TEST(SceneLevelSets, ShapeKeysAreReadWithTheirDefaults) {
   const std::string entry = "shapes:\n  - name: grain\n    level_set: {superquadric: {a: 0.002, "
                             "b: 0.0015, c: 0.001, n1: 2, n2: 4}";
   const SceneConfig scene = load_text(minimal_scene_plus(entry + "}\n"));
   const auto& shape = kdem::level_set_parameters(scene.shapes.at(0));
-  EXPECT_EQ(shape.triangles.size(), 2u * 2000 - 4);
-  EXPECT_NEAR(shape.grid_spacing, 2 * shape.smallest_size() / 20, 1e-18);
+  EXPECT_EQ(shape.triangles.size(), 2u * 8000 - 4);
+  EXPECT_NEAR(shape.grid_spacing, 2 * shape.smallest_size() / 40, 1e-18);
   EXPECT_LT(std::fabs(shape.smallest_size() - 0.001), 1e-5); // the lattice's nodes reach +-c
-  EXPECT_EQ(shape.point_spacing, shape.grid_spacing);
+  EXPECT_EQ(shape.point_spacing, 2 * shape.grid_spacing);
   EXPECT_EQ(shape.padding, 2);
   const SceneConfig given = load_text(minimal_scene_plus(
       entry + ", nodes: 300, grid_spacing: 1.0e-4, padding: 3, point_spacing: 2.0e-4}\n"));

@@ -1,0 +1,293 @@
+// Speed against error of level-set bodies standing in for a superquadric (issue: level sets,
+// item 5). The superquadric S is meshed at M Fibonacci nodes (the builders' lattice) and made a
+// level-set body (a signed-distance grid of spacing h, surface points at least l apart). Pairs
+// of S at random orientations and directions are placed so that the superquadric family's exact
+// narrow phase (the midway point) finds them overlapping by a / 100 (bisection on the distance);
+// each pair is then computed as two level-set bodies, as the engine does (both bodies' points in
+// the other's grid, merged into patches, averaged). Per (M, h, l): the median and largest
+// relative overlap error (against a / 100; a pair the level sets do not find, `missed`, counts
+// its whole overlap), the median and largest normal error (rad; the force-weighted normal of the
+// patches), the time per pair of each method (median of --repeat sweeps, one thread), and the
+// memory per template (grid and points).
+//
+//   kdem_bench_level_set_accuracy [--repeat R] [--pairs N] [--out FILE.json]
+//
+// Host code, one thread.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "kernels/level_set/family.hpp"
+#include "shapes/level_set_build.hpp"
+#include "shapes/superquadric_contact.hpp"
+#include "src/build_info.hpp"
+#include "src/core_builders.hpp"
+
+namespace {
+
+using namespace kdem;
+
+struct Shape {
+  std::string name;
+  SuperquadricShape s;
+};
+
+struct Pair {
+  Mat3 rotation_a, rotation_b;
+  Vec3 offset; // b's centre from a's
+  NarrowPhaseResult exact;
+};
+
+Mat3 random_rotation(std::mt19937& rng) {
+  std::normal_distribution<double> g;
+  Quat q{g(rng), g(rng), g(rng), g(rng)};
+  const double n = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+  return rotation_matrix(Quat{q.w / n, q.x / n, q.y / n, q.z / n});
+}
+
+// Pairs overlapping by `overlap` in the exact narrow phase: b moved along a random direction
+// until the midway overlap is met (bisection on the distance, 60 halvings).
+std::vector<Pair> pairs(const SuperquadricShape& s, int count, double overlap, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g;
+  const NarrowPhaseControls controls;
+  std::vector<Pair> out;
+  while (int(out.size()) < count) {
+    Pair p;
+    p.rotation_a = random_rotation(rng);
+    p.rotation_b = random_rotation(rng);
+    Vec3 u{g(rng), g(rng), g(rng)};
+    u = (1.0 / norm(u)) * u;
+    const PosedSuperquadric a{s, Vec3{}, p.rotation_a};
+    const auto at = [&](double d) {
+      return superquadric_pair_contact(a, PosedSuperquadric{s, d * u, p.rotation_b}, MidwayState{},
+                                       controls);
+    };
+    // Touching deeply at 0, apart beyond the bounding spheres; a failed solve (deep overlaps)
+    // counts as too close.
+    double near = 0, far = 2.5 * s.a;
+    for (int k = 0; k < 60; ++k) {
+      const double mid = 0.5 * (near + far);
+      const NarrowPhaseResult r = at(mid);
+      const bool too_close = r.status == 2 || (r.geometry.touching && r.geometry.overlap > overlap);
+      (too_close ? near : far) = mid;
+    }
+    p.offset = far * u;
+    p.exact = at(far);
+    if (p.exact.status == 0 && p.exact.geometry.touching &&
+        std::fabs(p.exact.geometry.overlap - overlap) < 1e-3 * overlap)
+      out.push_back(p);
+  }
+  return out;
+}
+
+LevelSetBodyView view_of(const LevelSetBody& body) {
+  LevelSetBodyView v;
+  v.grid = body.grid;
+  v.values = body.values.data();
+  v.points = body.surface_points.data();
+  v.point_count = int(body.surface_points.size());
+  v.reach = body.bounding_radius;
+  return v;
+}
+
+constexpr int pair_points = max_pair_contact_points;
+using Collected = DeepestContacts<pair_points>;
+
+// The engine's settings (docs/scene.md, level_set_contact).
+LevelSetContactSettings engine_settings() {
+  return LevelSetContactSettings{};
+}
+
+// Turns contacts found with the roles swapped (in b's frame) into a's frame and order.
+struct Swapped {
+  Collected& found;
+  RelativePose b_in_a;
+  void add(FeatureContact c) const {
+    c.normal = -(b_in_a.rotation * c.normal);
+    c.point = b_in_a.point(c.point);
+    std::swap(c.feature_a, c.feature_b);
+    found.add(c);
+  }
+};
+
+// Both bodies' points in the other's grid, in a's frame (the engine's level-set pair).
+Collected level_set_pair(const LevelSetBodyView& body, const Pair& p, double equivalent) {
+  const LevelSetContactSettings settings = engine_settings();
+  const RelativePose b_in_a{transpose(p.rotation_a) * p.rotation_b,
+                            transpose_times(p.rotation_a, p.offset)};
+  const RelativePose a_in_b{transpose(p.rotation_b) * p.rotation_a,
+                            transpose_times(p.rotation_b, -p.offset)};
+  Collected found = level_set_patches<pair_points>(settings, equivalent);
+  points_inside(body, body, b_in_a, found);
+  Swapped swapped{found, b_in_a};
+  points_inside(body, body, a_in_b, swapped);
+  return found;
+}
+
+struct Averaged {
+  double overlap = 0;
+  Vec3 normal;
+  bool touching = false;
+};
+
+// The force-weighted overlap sum_c w_c o_c and the normal of the forces (a's frame, from b
+// towards a).
+Averaged averaged(const Collected& found) {
+  Averaged a;
+  if (found.count == 0)
+    return a;
+  Vec3 force;
+  found.weights(engine_settings().averaging, [&](int c, double w) {
+    a.overlap += w * found.contact[c].overlap;
+    force += (w * found.contact[c].overlap) * found.contact[c].normal;
+  });
+  a.touching = a.overlap > 0;
+  if (a.touching)
+    a.normal = (1.0 / norm(force)) * force;
+  return a;
+}
+
+double angle_between(Vec3 a, Vec3 b) {
+  return std::atan2(norm(cross(a, b)), dot(a, b));
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+double largest(const std::vector<double>& v) {
+  return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end());
+}
+
+template <class F> double seconds_per_call(int repeat, int calls, F&& sweep) {
+  std::vector<double> times;
+  for (int r = 0; r < repeat; ++r) {
+    const auto start = std::chrono::steady_clock::now();
+    sweep();
+    times.push_back(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / calls);
+  }
+  return median(times);
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  int repeat = 5, pair_count = 300;
+  std::string out = "perf/results/level_set_accuracy.json";
+  for (int k = 1; k < argc; ++k) {
+    if (std::strcmp(argv[k], "--repeat") == 0 && k + 1 < argc)
+      repeat = std::stoi(argv[++k]);
+    else if (std::strcmp(argv[k], "--pairs") == 0 && k + 1 < argc)
+      pair_count = std::stoi(argv[++k]);
+    else if (std::strcmp(argv[k], "--out") == 0 && k + 1 < argc)
+      out = argv[++k];
+    else {
+      std::fprintf(stderr, "usage: kdem_bench_level_set_accuracy [--repeat R] [--pairs N] "
+                           "[--out FILE.json]\n");
+      return 2;
+    }
+  }
+  const std::vector<Shape> shapes = {{"ellipsoid_1_0.7_0.5", make_superquadric(1, 0.7, 0.5, 2, 2)},
+                                     {"blocky_1_0.8_0.6_n4", make_superquadric(1, 0.8, 0.6, 4, 4)}};
+  const std::vector<int> node_counts = {2000, 8000};
+  // Grid spacings as fractions of the smallest extent 2c; point spacings as multiples of h.
+  const std::vector<double> cells_across = {10, 20, 40, 80};
+  const std::vector<double> point_over_grid = {2, 1, 0.5};
+  const NarrowPhaseControls controls;
+  std::string json = "{\n  \"benchmark\": \"level_set_accuracy\",\n  \"git_hash\": \"" +
+                     std::string(git_hash()) + "\",\n  \"repeat\": " + std::to_string(repeat) +
+                     ",\n  \"pairs\": " + std::to_string(pair_count) + ",\n  \"shapes\": [\n";
+  for (std::size_t k = 0; k < shapes.size(); ++k) {
+    const SuperquadricShape& s = shapes[k].s;
+    const double overlap = s.a / 100;
+    const std::vector<Pair> all = pairs(s, pair_count, overlap, 29 + unsigned(k));
+    const double exact_seconds = seconds_per_call(repeat, pair_count, [&] {
+      double sink = 0;
+      for (const Pair& p : all)
+        sink += superquadric_pair_contact(PosedSuperquadric{s, Vec3{}, p.rotation_a},
+                                          PosedSuperquadric{s, p.offset, p.rotation_b},
+                                          MidwayState{}, controls)
+                    .geometry.overlap;
+      if (sink == 12345.0)
+        std::puts("");
+    });
+    json += "    {\"name\": \"" + shapes[k].name +
+            "\", \"exact_ns_per_pair\": " + std::to_string(1e9 * exact_seconds) + ", \"runs\": [\n";
+    bool first = true;
+    for (int nodes : node_counts) {
+      const TriangleMesh mesh = superquadric_core(s.a, s.b, s.c, s.n1, s.n2, nodes);
+      std::vector<Vec3> points;
+      for (const auto& q : mesh.points)
+        points.push_back(Vec3{q[0], q[1], q[2]});
+      for (double cells : cells_across)
+        for (double ratio : point_over_grid) {
+          LevelSetOptions options;
+          options.spacing = 2 * s.c / cells;
+          options.point_spacing = ratio * options.spacing;
+          const auto build_start = std::chrono::steady_clock::now();
+          const LevelSetBody body = build_level_set(points, mesh.triangles, options);
+          const double build_seconds =
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - build_start).count();
+          const LevelSetBodyView view = view_of(body);
+          const double equivalent = std::cbrt(3 * body.mass.volume / (4 * pi));
+          std::vector<double> overlap_errors, normal_errors;
+          int missed = 0;
+          for (const Pair& p : all) {
+            const Averaged a = averaged(level_set_pair(view, p, equivalent));
+            if (!a.touching) {
+              ++missed;
+              overlap_errors.push_back(1.0);
+              continue;
+            }
+            overlap_errors.push_back(std::fabs(a.overlap - p.exact.geometry.overlap) / overlap);
+            // Level sets: in a's frame, from b towards a; exact: world, from j (b) towards i (a).
+            normal_errors.push_back(
+                angle_between(p.rotation_a * a.normal, p.exact.geometry.normal));
+          }
+          const double seconds = seconds_per_call(repeat, pair_count, [&] {
+            int sink = 0;
+            for (const Pair& p : all)
+              sink += level_set_pair(view, p, equivalent).count;
+            if (sink == -1)
+              std::puts("");
+          });
+          char row[800];
+          std::snprintf(
+              row, sizeof row,
+              "%s      {\"nodes\": %d, \"cells_across\": %g, \"grid_spacing_over_a\": %.4g, "
+              "\"point_spacing_over_a\": %.4g, \"grid_nodes\": %zu, \"surface_points\": %zu, "
+              "\"grid_bytes\": %zu, \"point_bytes\": %zu, \"build_seconds\": %.3f, "
+              "\"overlap_error_median\": %.4g, \"overlap_error_max\": %.4g, "
+              "\"normal_error_median_rad\": %.4g, \"normal_error_max_rad\": %.4g, "
+              "\"missed\": %d, \"ns_per_pair\": %.1f}",
+              first ? "" : ",\n", nodes, cells, options.spacing / s.a, options.point_spacing / s.a,
+              body.values.size(), body.surface_points.size(), body.grid_bytes(), body.point_bytes(),
+              build_seconds, median(overlap_errors), largest(overlap_errors), median(normal_errors),
+              largest(normal_errors), missed, 1e9 * seconds);
+          json += row;
+          first = false;
+          std::fprintf(stderr,
+                       "%s nodes %d cells %g points %g: overlap error median %.3g, %d "
+                       "missed, %.0f ns\n",
+                       shapes[k].name.c_str(), nodes, cells, ratio, median(overlap_errors), missed,
+                       1e9 * seconds);
+        }
+    }
+    json += std::string("\n    ]}") + (k + 1 < shapes.size() ? "," : "") + "\n";
+  }
+  json += "  ]\n}\n";
+  const std::string tmp = out + ".tmp";
+  std::ofstream(tmp) << json;
+  std::rename(tmp.c_str(), out.c_str());
+  std::printf("wrote %s\n", out.c_str());
+  return 0;
+}
