@@ -87,16 +87,6 @@ std::vector<Pair> pairs(const SuperquadricShape& s, int count, double overlap, u
   return out;
 }
 
-LevelSetBodyView view_of(const LevelSetBody& body) {
-  LevelSetBodyView v;
-  v.grid = body.grid;
-  v.values = body.values.data();
-  v.points = body.surface_points.data();
-  v.point_count = int(body.surface_points.size());
-  v.reach = body.bounding_radius;
-  return v;
-}
-
 constexpr int pair_points = max_pair_contact_points;
 using Collected = DeepestContacts<pair_points>;
 

@@ -54,6 +54,17 @@ struct LevelSetBody {
   std::size_t point_bytes() const { return surface_points.size() * sizeof(Vec3); }
 };
 
+// The body as the contact code reads it, over the body's own storage (host).
+inline LevelSetBodyView view_of(const LevelSetBody& body) {
+  LevelSetBodyView v;
+  v.grid = body.grid;
+  v.values = body.values.data();
+  v.points = body.surface_points.data();
+  v.point_count = int(body.surface_points.size());
+  v.reach = body.bounding_radius;
+  return v;
+}
+
 namespace level_set_build {
 
 // Exact volume moments of a closed, outward-wound mesh: the sum over its triangles of the signed

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "../../shapes/sphere.hpp"
+#include "collision_test_support.hpp"
 #include "dilated_test_support.hpp"
 #include "scene_builders.hpp"
 #include "shapes/dilated_polyhedron_properties.hpp"
@@ -176,11 +177,6 @@ ShapeConfig dilated_shape(const std::string& name, const test::CoreMesh& mesh, d
   for (const Vec3& p : mesh.points)
     points.push_back({p.x, p.y, p.z});
   return dilated_polyhedron_shape_config(name, points, mesh.triangles, radius, 1e-4);
-}
-
-double kinetic_energy(const Engine& engine) {
-  const Diagnostics d = engine.diagnostics();
-  return d.translational_energy + d.rotational_energy;
 }
 
 // Steps until the bodies have touched and separated (pair or wall contacts); the most contacts

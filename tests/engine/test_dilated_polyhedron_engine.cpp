@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "../../shapes/sphere.hpp"
+#include "collision_test_support.hpp"
 #include "dilated_test_support.hpp"
 #include "mesh_test_support.hpp"
 #include "scene_builders.hpp"
@@ -28,11 +29,6 @@ ShapeConfig dilated_shape(const std::string& name, const test::CoreMesh& mesh, d
   for (const Vec3& p : mesh.points)
     points.push_back({p.x, p.y, p.z});
   return dilated_polyhedron_shape_config(name, points, mesh.triangles, radius, mass_precision);
-}
-
-double kinetic_energy(const Engine& engine) {
-  const Diagnostics d = engine.diagnostics();
-  return d.translational_energy + d.rotational_energy;
 }
 
 // The volume of a box of half-widths a, b, c dilated by r (core, slabs, quarter cylinders and
@@ -97,32 +93,6 @@ TEST(DilatedPolyhedronEngine, BoxRestsOnAMeshFloorOfEitherWinding) {
     EXPECT_NEAR(s.position[2], c + r - overlap, 0.01 * overlap) << wound_down;
     EXPECT_EQ(engine.diagnostics().wall_contacts, 4) << wound_down;
   }
-}
-
-struct Collision {
-  double before = 0, after = 0;
-  int pair_contacts = 0;
-};
-
-// Runs until the bodies have touched and separated; kinetic energy before and after.
-Collision collide(Engine& engine, int max_steps) {
-  Collision c;
-  c.before = kinetic_energy(engine);
-  bool touched = false;
-  for (int k = 0; k < max_steps; ++k) {
-    engine.step();
-    const int contacts = engine.diagnostics().pair_contacts;
-    c.pair_contacts = std::max(c.pair_contacts, contacts);
-    touched = touched || contacts > 0;
-    if (touched && contacts == 0)
-      break;
-  }
-  c.after = kinetic_energy(engine);
-  return c;
-}
-
-SceneConfig elastic_scene() {
-  return empty_scene(2e-7, {material("glass", 2500, 1e8, 0.3, 1.0, 0.0)});
 }
 
 TEST(DilatedPolyhedronEngine, ElasticCollisionsKeepTheirEnergy) {

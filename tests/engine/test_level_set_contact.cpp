@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "collision_test_support.hpp"
 #include "dilated_test_support.hpp"
 #include "kernels/level_set/pairs.hpp"
 #include "scene_builders.hpp"
@@ -27,16 +28,6 @@ LevelSetBody body_of(const test::CoreMesh& mesh, double spacing, double point_sp
   options.spacing = spacing;
   options.point_spacing = point_spacing;
   return build_level_set(mesh.points, mesh.triangles, options);
-}
-
-LevelSetBodyView view_of(const LevelSetBody& body) {
-  LevelSetBodyView v;
-  v.grid = body.grid;
-  v.values = body.values.data();
-  v.points = body.surface_points.data();
-  v.point_count = int(body.surface_points.size());
-  v.reach = body.bounding_radius;
-  return v;
 }
 
 test::CoreMesh sphere_mesh(double radius, int nodes) {
@@ -156,11 +147,6 @@ ShapeConfig level_set_shape(const std::string& name, const test::CoreMesh& mesh,
   return level_set_shape_config(name, points, mesh.triangles, spacing, spacing);
 }
 
-double kinetic_energy(const Engine& engine) {
-  const Diagnostics d = engine.diagnostics();
-  return d.translational_energy + d.rotational_energy;
-}
-
 TEST(LevelSetEngine, BoxRestingOnAPlaneCarriesItsWeight) {
   const double a = 2e-3, b = 1.5e-3, c = 1e-3, density = 2500;
   SceneConfig scene = empty_scene(1e-6, {material("stone", density, 1e8, 0.3, 0.3, 0.5)});
@@ -183,31 +169,6 @@ TEST(LevelSetEngine, BoxRestingOnAPlaneCarriesItsWeight) {
   EXPECT_NEAR(s.position[2], c - overlap, 0.01 * overlap) << "overlap " << overlap;
   EXPECT_LT(std::fabs(s.velocity[2]), 1e-6);
   EXPECT_GE(engine.diagnostics().wall_contacts, 1);
-}
-
-SceneConfig elastic_scene() {
-  return empty_scene(2e-7, {material("glass", 2500, 1e8, 0.3, 1.0, 0.0)});
-}
-
-struct Collision {
-  double before = 0, after = 0;
-  int pair_contacts = 0;
-};
-
-Collision collide(Engine& engine, int max_steps) {
-  Collision c;
-  c.before = kinetic_energy(engine);
-  bool touched = false;
-  for (int k = 0; k < max_steps; ++k) {
-    engine.step();
-    const int contacts = engine.diagnostics().pair_contacts;
-    c.pair_contacts = std::max(c.pair_contacts, contacts);
-    touched = touched || contacts > 0;
-    if (touched && contacts == 0)
-      break;
-  }
-  c.after = kinetic_energy(engine);
-  return c;
 }
 
 TEST(LevelSetEngine, ElasticCollisionsKeepTheirEnergy) {
