@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "kernels/level_set/family.hpp"
+#include "kernels/level_set/patches.hpp"
 #include "shapes/level_set_build.hpp"
 #include "shapes/superquadric_contact.hpp"
 #include "src/build_info.hpp"
@@ -88,7 +88,7 @@ std::vector<Pair> pairs(const SuperquadricShape& s, int count, double overlap, u
 }
 
 constexpr int pair_points = max_pair_contact_points;
-using Collected = DeepestContacts<pair_points>;
+using Collected = LevelSetPatches<pair_points>;
 
 // The engine's settings (docs/scene.md, level_set_contact).
 LevelSetContactSettings engine_settings() {
@@ -114,7 +114,7 @@ Collected level_set_pair(const LevelSetBodyView& body, const Pair& p, double equ
                             transpose_times(p.rotation_a, p.offset)};
   const RelativePose a_in_b{transpose(p.rotation_b) * p.rotation_a,
                             transpose_times(p.rotation_b, -p.offset)};
-  Collected found = level_set_patches<pair_points>(settings, equivalent);
+  Collected found(settings, equivalent);
   points_inside(body, body, b_in_a, found);
   Swapped swapped{found, b_in_a};
   points_inside(body, body, a_in_b, swapped);

@@ -4,20 +4,22 @@
 // After the bodies' bounding spheres, a level-set body's surface points are tested against the
 // other body: against a sphere's exact distance, against another level-set body's grid (digest
 // B5), in the frame of body a; a sphere's centre is also tested against the grid, which finds a
-// sphere smaller than the points' spacing. The penetrating points are merged into patches
-// (level_set_patches), each a contact point keyed by its deepest point, weighted by the book's
-// averaging. The Hertz radius is that of the volume-equivalent spheres in series (Eq. 5.17).
-// Included only by the translation units of kernels/pairs/.
+// sphere smaller than the points' spacing. The penetrating points are grouped into patches, the
+// connected regions of penetration (LevelSetPatches, patches.hpp), each a contact at its deepest
+// point with that point's key, weighted by the book's averaging. The Hertz radius is that of the
+// volume-equivalent spheres in series (Eq. 5.17). Included only by the translation units of
+// kernels/pairs/.
 #include "../dilated_polyhedron/pairs.hpp"
 #include "../families/pair_loop.hpp"
 #include "family.hpp"
+#include "patches.hpp"
 
 namespace kdem {
 
 // Hands on contacts found with the bodies' roles swapped (in b's frame, normals from a towards
 // b, keys (b's, a's)) in a's frame with the pair's order.
 template <int K> struct SwappedContactSink {
-  DeepestContacts<K>& deepest;
+  LevelSetPatches<K>& patches;
   RelativePose b_in_a;
   KOKKOS_INLINE_FUNCTION void add(FeatureContact c) const {
     c.normal = -(b_in_a.rotation * c.normal);
@@ -25,7 +27,7 @@ template <int K> struct SwappedContactSink {
     const int key_b = c.feature_a;
     c.feature_a = c.feature_b;
     c.feature_b = key_b;
-    deepest.add(c);
+    patches.add(c);
   }
 };
 
@@ -46,13 +48,13 @@ struct LevelSetPairState {
   // The patches found in the frame (rotation, origin) turned into the world and into `found`,
   // with their weights; normals from b towards a.
   template <int K>
-  KOKKOS_INLINE_FUNCTION PairOutcome finish(const DeepestContacts<K>& deepest, const Mat3& rotation,
+  KOKKOS_INLINE_FUNCTION PairOutcome finish(const LevelSetPatches<K>& patches, const Mat3& rotation,
                                             Vec3 origin, double radius,
                                             PairContacts<K>& found) const {
-    if (deepest.count == 0)
+    if (patches.count == 0)
       return PairOutcome::apart;
-    for (int c = 0; c < deepest.count; ++c) {
-      const FeatureContact& f = deepest.contact[c];
+    for (int c = 0; c < patches.count; ++c) {
+      const FeatureContact& f = patches.contact[c];
       PairContact& contact = found.add();
       contact.geometry =
           ContactGeometry{true, f.overlap, rotation * f.normal, origin + rotation * f.point};
@@ -60,7 +62,7 @@ struct LevelSetPairState {
       contact.feature_a = f.feature_a;
       contact.feature_b = f.feature_b;
     }
-    deepest.weights(table.settings.averaging,
+    patches.weights(table.settings.averaging,
                     [&](int c, double w) { found.contact[c].weight = w; });
     return PairOutcome::touching;
   }
@@ -120,11 +122,10 @@ struct NarrowPhase<SphereFamily, LevelSetFamily> : LevelSetPairState, EveryRowOf
     const Mat3 rotation = rotation_matrix(load_quat(p.orientation, r.b));
     const Vec3 origin = load3(p.position, r.b);
     const double radius_b = LevelSetFamily::equivalent_radius(table, shapes, p, r.b);
-    auto deepest =
-        level_set_patches<max_contacts>(table.settings, math::min(p.radius(r.a), radius_b));
+    LevelSetPatches<max_contacts> patches(table.settings, math::min(p.radius(r.a), radius_b));
     sphere_level_set_contacts(body, transpose_times(rotation, load3(p.position, r.a) - origin),
-                              p.radius(r.a), deepest);
-    return finish(deepest, rotation, origin, equivalent_series_radius(p.radius(r.a), radius_b),
+                              p.radius(r.a), patches);
+    return finish(patches, rotation, origin, equivalent_series_radius(p.radius(r.a), radius_b),
                   found);
   }
 };
@@ -154,15 +155,15 @@ struct NarrowPhase<LevelSetFamily, LevelSetFamily> : LevelSetPairState, EveryRow
                               transpose_times(rotation_b, origin_a - origin_b)};
     const double radius_a = LevelSetFamily::equivalent_radius(table, shapes, p, r.a);
     const double radius_b = LevelSetFamily::equivalent_radius(table, shapes, p, r.b);
-    auto deepest = level_set_patches<max_contacts>(table.settings, math::min(radius_a, radius_b));
+    LevelSetPatches<max_contacts> patches(table.settings, math::min(radius_a, radius_b));
     // One way: the points of the body of the higher index (j) in the other's grid.
     if (table.settings.both_ways || r.b == r.j)
-      points_inside(body_a, body_b, b_in_a, deepest);
+      points_inside(body_a, body_b, b_in_a, patches);
     if (table.settings.both_ways || r.a == r.j) {
-      SwappedContactSink<max_contacts> swapped{deepest, b_in_a};
+      SwappedContactSink<max_contacts> swapped{patches, b_in_a};
       points_inside(body_b, body_a, a_in_b, swapped);
     }
-    return finish(deepest, rotation_a, origin_a, equivalent_series_radius(radius_a, radius_b),
+    return finish(patches, rotation_a, origin_a, equivalent_series_radius(radius_a, radius_b),
                   found);
   }
 };

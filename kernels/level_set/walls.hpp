@@ -4,11 +4,13 @@
 // the triangle's plane whose foot lies in the triangle and inside the body (face contact), and
 // where there is none, the triangle's vertices and points along its edges inside the body's grid
 // (vertex and edge contacts: the body's value and gradient there), each edge and vertex tested
-// only by the triangle that owns it. Contacts of one element are merged into patches and
-// weighted by the book's averaging; the slot key is 8 times the particle's key plus the
-// triangle's feature (vertices 0-2, edges 3-5, face 6; 0 for planes and cylinders). Hertz
-// radius: the particle's volume-equivalent radius (a wall is flat or much larger).
+// only by the triangle that owns it. Contacts of one element are grouped into patches (the
+// connected regions of penetration, patches.hpp) and weighted by the book's averaging; the slot key
+// is 8 times the particle's key plus the triangle's feature (vertices 0-2, edges 3-5, face 6; 0 for
+// planes and cylinders). Hertz radius: the particle's volume-equivalent radius (a wall is flat or
+// much larger).
 #include "family.hpp"
+#include "patches.hpp"
 
 namespace kdem {
 
@@ -19,18 +21,18 @@ struct LevelSetWallContact {
   ShapeFamilies shapes;
   ParticleViews p;
 
-  KOKKOS_INLINE_FUNCTION void to_world(const DeepestContacts<max_contacts>& deepest,
+  KOKKOS_INLINE_FUNCTION void to_world(const LevelSetPatches<max_contacts>& patches,
                                        const Mat3& rotation, Vec3 origin, double radius,
                                        WallContacts<max_contacts>& found) const {
-    for (int c = 0; c < deepest.count; ++c) {
-      const FeatureContact& f = deepest.contact[c];
+    for (int c = 0; c < patches.count; ++c) {
+      const FeatureContact& f = patches.contact[c];
       WallContactGeometry& contact = found.add();
       contact.geometry =
           ContactGeometry{true, f.overlap, rotation * f.normal, origin + rotation * f.point};
       contact.effective_radius = radius;
       contact.feature = 8 * f.feature_a + f.feature_b;
     }
-    deepest.weights(table.settings.averaging,
+    patches.weights(table.settings.averaging,
                     [&](int c, double w) { found.contact[c].weight = w; });
   }
 
@@ -44,28 +46,28 @@ struct LevelSetWallContact {
         transpose(rotation) * wall_rotation,
         transpose_times(rotation, wall.offset - wall_rotation * wall.pivot - origin)};
     const double radius = LevelSetFamily::equivalent_radius(table, shapes, p, i);
-    auto deepest = level_set_patches<max_contacts>(table.settings, radius);
+    LevelSetPatches<max_contacts> patches(table.settings, radius);
     switch (el.kind(e)) {
     case plane_element:
       points_beyond_plane(body, pose.point(geometry_vec(el.geometry, e, 0)),
-                          pose.rotation * geometry_vec(el.geometry, e, 3), deepest);
+                          pose.rotation * geometry_vec(el.geometry, e, 3), patches);
       break;
     case cylinder_element:
       points_beyond_cylinder(body, pose.point(geometry_vec(el.geometry, e, 0)),
                              pose.rotation * geometry_vec(el.geometry, e, 3), el.geometry(e, 6),
-                             el.geometry(e, 7), deepest);
+                             el.geometry(e, 7), patches);
       break;
     default:
-      triangle_contacts(body, e, pose, deepest);
+      triangle_contacts(body, e, pose, patches);
     }
-    to_world(deepest, rotation, origin, radius, found);
+    to_world(patches, rotation, origin, radius, found);
   }
 
   // The face contacts: points beyond the triangle's plane (seen from the body's origin), whose
   // foot on the plane lies in the triangle and inside the body.
   KOKKOS_INLINE_FUNCTION void face_contacts(const LevelSetBodyView& body, const Vec3 (&corner)[3],
                                             Vec3 normal,
-                                            DeepestContacts<max_contacts>& deepest) const {
+                                            LevelSetPatches<max_contacts>& patches) const {
     const double reach2 = body.reach * body.reach;
     for (int q = 0; q < body.point_count; ++q) {
       const Vec3 x = body.points[q];
@@ -85,14 +87,14 @@ struct LevelSetWallContact {
       c.point = x + (0.5 * c.overlap) * normal;
       c.feature_a = 1 + q;
       c.feature_b = 6;
-      deepest.add(c);
+      patches.add(c);
     }
   }
 
   // A wall point inside the body: overlap minus the value, normal against the body's outward
   // normal there (from the wall into the body).
   KOKKOS_INLINE_FUNCTION static void point_inside(const LevelSetBodyView& body, Vec3 x, int key,
-                                                  DeepestContacts<max_contacts>& deepest) {
+                                                  LevelSetPatches<max_contacts>& patches) {
     LevelSetSample s;
     if (!body.sample(x, s) || !(s.value < 0))
       return;
@@ -103,28 +105,28 @@ struct LevelSetWallContact {
     c.point = x - (0.5 * c.overlap) * out;
     c.feature_a = 0;
     c.feature_b = key;
-    deepest.add(c);
+    patches.add(c);
   }
 
   // The triangle's owned vertices, and points along its owned edges at the grid's spacing.
   KOKKOS_INLINE_FUNCTION void
   edge_and_vertex_contacts(const LevelSetBodyView& body, int e, const Vec3 (&corner)[3],
-                           DeepestContacts<max_contacts>& deepest) const {
+                           LevelSetPatches<max_contacts>& patches) const {
     for (int k = 0; k < 3; ++k) {
       if (el.vertex_owner(el.features(e, 3 + k)) == e)
-        point_inside(body, corner[k], k, deepest);
+        point_inside(body, corner[k], k, patches);
       if (el.edge_owner(el.features(e, k)) != e)
         continue;
       const Vec3 from = corner[k], to = corner[(k + 1) % 3];
       const int pieces = int(norm(to - from) / body.grid.spacing) + 1;
       for (int s = 1; s < pieces; ++s)
-        point_inside(body, from + (double(s) / pieces) * (to - from), 3 + k, deepest);
+        point_inside(body, from + (double(s) / pieces) * (to - from), 3 + k, patches);
     }
   }
 
   KOKKOS_INLINE_FUNCTION void triangle_contacts(const LevelSetBodyView& body, int e,
                                                 const RelativePose& pose,
-                                                DeepestContacts<max_contacts>& deepest) const {
+                                                LevelSetPatches<max_contacts>& patches) const {
     Vec3 corner[3];
     for (int k = 0; k < 3; ++k)
       corner[k] = pose.point(geometry_vec(el.geometry, e, 3 * k));
@@ -135,10 +137,10 @@ struct LevelSetWallContact {
       normal = -normal;
     if (dot(Vec3{} - corner[0], normal) > body.reach)
       return;
-    const int before = deepest.count;
-    face_contacts(body, corner, normal, deepest);
-    if (deepest.count == before)
-      edge_and_vertex_contacts(body, e, corner, deepest);
+    const int before = patches.count;
+    face_contacts(body, corner, normal, patches);
+    if (patches.count == before)
+      edge_and_vertex_contacts(body, e, corner, patches);
   }
 };
 
