@@ -37,15 +37,29 @@ std::vector<Vec3> principal_points(const LevelSetShapeParameters& config, ShapeT
   return points;
 }
 
+// Frames draw the grid's zero level set (the surface the contacts see), reduced to at most this
+// many triangles by quadric-error edge collapse: a grid of 40 cells across gives 8,000 to 40,000
+// triangles per body, and a frame repeats them for every particle. Where the reduction refuses
+// (a surface it cannot keep closed), the whole surface is drawn.
+constexpr int drawn_faces = 2000;
+
 BodySurface drawn_surface(const LevelSetBody& body) {
   const LevelSetGrid& g = body.grid;
-  const TriangleMesh surface = zero_level_surface({g.origin.x, g.origin.y, g.origin.z}, g.spacing,
-                                                  {g.nx, g.ny, g.nz}, body.values);
+  TriangleMesh surface = zero_level_surface({g.origin.x, g.origin.y, g.origin.z}, g.spacing,
+                                            {g.nx, g.ny, g.nz}, body.values);
+  if (surface.triangles.size() > std::size_t(drawn_faces)) {
+    try {
+      surface = simplify_core(surface, drawn_faces);
+    } catch (const std::invalid_argument&) {
+    }
+  }
+  const bool inward = enclosed_volume(surface) < 0; // flying edges winds its triangles inward
   BodySurface drawn;
   for (const auto& p : surface.points)
     drawn.points.insert(drawn.points.end(), {p[0], p[1], p[2]});
   for (const auto& t : surface.triangles)
-    drawn.triangles.insert(drawn.triangles.end(), {t[0], t[1], t[2]});
+    drawn.triangles.insert(drawn.triangles.end(),
+                           {t[0], inward ? t[2] : t[1], inward ? t[1] : t[2]});
   return drawn;
 }
 
