@@ -641,7 +641,7 @@ sphere_superquadric_contact(Vec3 sphere_centre, double sphere_radius, const Pose
     result.geometry.overlap = overlap;
     result.geometry.normal = normal;
     result.geometry.point = 0.5 * (sphere_surface + u.x);
-    result.curvature_i = 1.0 / sphere_radius;
+    result.curvature_i = sphere_radius > 0 ? 1.0 / sphere_radius : 0.0; // radius 0: a point probe
     result.curvature_j = mean_curvature(e.f);
   }
   if (!kdem::is_finite(overlap) || !narrow_phase::is_finite(result.geometry.point) ||

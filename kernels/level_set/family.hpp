@@ -3,9 +3,11 @@
 // the body in its principal frame (centroid at the origin) and points on its surface
 // (shapes/level_set.hpp), one grid per template in flat device Views, never one per particle.
 // A contact is a surface point of one body inside the other's grid (pairs.hpp) or beyond a wall
-// (walls.hpp); the points of one pair are merged into a few contacts, the deepest of each patch
-// kept with its point's key, and their forces weighted by the book's averaging (Eq. 5.17's
-// 1 / N_p over the patches that share a direction; DeepestContacts).
+// (walls.hpp); the penetrating points of one pair are grouped into patches, the connected regions
+// of penetration (patches.hpp), each a contact at its deepest point with that point's key, their
+// forces weighted by the book's averaging (Eq. 5.17's 1 / N_p over the patches that share a
+// direction). Against the other families, the level-set body's points meet the other body's
+// exact surface, and the other body's features its grid (mixed_pairs.hpp).
 #include "../../shapes/level_set.hpp"
 #include "../dilated_polyhedron/family.hpp"
 #include "../families/family_rows.hpp"
@@ -19,8 +21,9 @@ struct LevelSetContactSettings {
   // Contacts whose normals agree within the averaging angle share the force in proportion to
   // their overlaps; reach: unbounded.
   SeamSettings averaging{true, 1e300, 0.8660254};
-  // Penetrating points closer than `merge` x the smaller equivalent radius whose normals agree
-  // within the averaging angle are one patch, whose deepest point is its contact.
+  // A penetrating point within `merge` x the smaller equivalent radius of a patch's points (of
+  // the box bounding them) whose normal agrees with the patch's within the averaging angle joins
+  // that patch; the patch's deepest point is its contact.
   double merge = 0.5;
   // Both bodies' points are tested against the other's grid (a sharp corner of either is found);
   // false: only the points of the body of the higher particle index against the other's grid.
@@ -73,15 +76,5 @@ struct LevelSetFamily {
   static LevelSetWallContact wall_contact(const Table& t, const ShapeFamilies& s,
                                           const WallElements& elements, const ParticleViews& p);
 };
-
-// The deepest contacts of a pair or a wall element, merged into patches by the settings.
-template <int K>
-KOKKOS_INLINE_FUNCTION DeepestContacts<K> level_set_patches(const LevelSetContactSettings& s,
-                                                            double radius) {
-  DeepestContacts<K> deepest;
-  deepest.merge_distance = s.merge * radius;
-  deepest.merge_cosine = s.averaging.cos_angle;
-  return deepest;
-}
 
 } // namespace kdem

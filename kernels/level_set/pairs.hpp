@@ -46,10 +46,10 @@ struct LevelSetPairState {
   }
 
   // The patches found in the frame (rotation, origin) turned into the world and into `found`,
-  // with their weights; normals from b towards a.
-  template <int K>
+  // with their weights; normals from b towards a. radius_of(contact): its Hertz radius.
+  template <int K, class RadiusOf>
   KOKKOS_INLINE_FUNCTION PairOutcome finish(const LevelSetPatches<K>& patches, const Mat3& rotation,
-                                            Vec3 origin, double radius,
+                                            Vec3 origin, const RadiusOf& radius_of,
                                             PairContacts<K>& found) const {
     if (patches.count == 0)
       return PairOutcome::apart;
@@ -58,7 +58,7 @@ struct LevelSetPairState {
       PairContact& contact = found.add();
       contact.geometry =
           ContactGeometry{true, f.overlap, rotation * f.normal, origin + rotation * f.point};
-      contact.effective_radius = radius;
+      contact.effective_radius = radius_of(f);
       contact.feature_a = f.feature_a;
       contact.feature_b = f.feature_b;
     }
@@ -66,27 +66,83 @@ struct LevelSetPairState {
                     [&](int c, double w) { found.contact[c].weight = w; });
     return PairOutcome::touching;
   }
+  template <int K>
+  KOKKOS_INLINE_FUNCTION PairOutcome finish(const LevelSetPatches<K>& patches, const Mat3& rotation,
+                                            Vec3 origin, double radius,
+                                            PairContacts<K>& found) const {
+    return finish(
+        patches, rotation, origin, [=](const FeatureContact&) { return radius; }, found);
+  }
 };
 
+namespace level_set {
+
+// Support-point iterations of the deepest-point search; each costs one support point and one
+// grid sample, and a smooth convex piece against a flat face settles in two or three.
+constexpr int support_iterations = 8;
+
+// A sphere (centre, radius; b's frame) against b's grid: overlap radius minus the value at the
+// centre, normal b's outward normal (from b towards the sphere); false beyond the grid.
+KOKKOS_INLINE_FUNCTION bool sphere_in_grid(const LevelSetBodyView& b, Vec3 centre, double radius,
+                                           FeatureContact& c) {
+  LevelSetSample s;
+  if (!b.sample(centre, s) || !(s.value < radius))
+    return false;
+  const Vec3 out = outward(s, centre);
+  c.overlap = radius - s.value;
+  c.normal = out;
+  c.point = centre - (radius - 0.5 * c.overlap) * out;
+  return true;
+}
+
+// The deepest point in b's grid of a convex piece (support(d): its point furthest along d, b's
+// frame), starting from its point furthest towards b's origin.
+template <class Support>
+KOKKOS_INLINE_FUNCTION bool deepest_support_point(const LevelSetBodyView& b, const Support& support,
+                                                  Vec3 towards_b, FeatureContact& c) {
+  Vec3 x = support(towards_b);
+  bool found = false;
+  for (int k = 0; k < support_iterations; ++k) {
+    LevelSetSample s;
+    if (!b.sample(x, s))
+      break;
+    const Vec3 out = outward(s, x);
+    if (s.value < 0 && (!found || -s.value > c.overlap)) {
+      found = true;
+      c.overlap = -s.value;
+      c.normal = out;
+      c.point = x + (0.5 * c.overlap) * out;
+    }
+    const Vec3 next = support(-1.0 * out);
+    if (norm2(next - x) <= 1e-24 * b.reach * b.reach)
+      break;
+    x = next;
+  }
+  return found;
+}
+
+} // namespace level_set
+
 // A sphere (body a, centre c and radius r in b's frame) against a level-set body b: the centre
-// in b's grid (overlap r minus the value there, key (0, 0)), and where the centre lies beyond
-// the grid, b's surface points inside the sphere (overlap r minus their distance from c, normal
-// along the line from the point to c, keys (0, 1 + point index)). Contacts in b's frame, normals
-// from b towards a.
+// in b's grid (overlap r minus the value there, key (0, 0)); where the centre lies beyond the
+// grid, b's surface points inside the sphere (overlap r minus their distance from c, normal along
+// the line from the point to c, keys (0, 1 + point index)), which find b's corners, and the
+// sphere's deepest point in b's grid (key (0, 0)), which finds a face of b pressed into the sphere
+// between b's points. Contacts in b's frame, normals from b towards a.
 template <class Sink>
 KOKKOS_INLINE_FUNCTION void sphere_level_set_contacts(const LevelSetBodyView& b, Vec3 centre,
                                                       double radius, Sink& sink) {
+  FeatureContact c;
+  c.feature_a = 0;
+  c.feature_b = 0;
   LevelSetSample s;
   if (interpolate_level_set(b.grid, b.values, centre, s)) {
     if (!(s.value < radius))
       return;
     const Vec3 out = level_set::outward(s, centre);
-    FeatureContact c;
     c.overlap = radius - s.value;
     c.normal = out;
     c.point = centre - (radius - 0.5 * c.overlap) * out;
-    c.feature_a = 0;
-    c.feature_b = 0;
     sink.add(c);
     return;
   }
@@ -95,14 +151,22 @@ KOKKOS_INLINE_FUNCTION void sphere_level_set_contacts(const LevelSetBodyView& b,
     const double distance = norm(centre - x);
     if (!(distance < radius) || !(distance > 0))
       continue;
-    FeatureContact c;
-    c.overlap = radius - distance;
-    c.normal = (1.0 / distance) * (centre - x);
-    c.point = x - (0.5 * c.overlap) * c.normal;
-    c.feature_a = 0;
-    c.feature_b = 1 + q;
-    sink.add(c);
+    FeatureContact p;
+    p.overlap = radius - distance;
+    p.normal = (1.0 / distance) * (centre - x);
+    p.point = x - (0.5 * p.overlap) * p.normal;
+    p.feature_a = 0;
+    p.feature_b = 1 + q;
+    sink.add(p);
   }
+  const double from_origin = norm(centre);
+  const Vec3 towards_b = from_origin > 0 ? (-1.0 / from_origin) * centre : Vec3{0, 0, -1};
+  const auto support = [&](Vec3 d) {
+    const double length = norm(d);
+    return length > 0 ? centre + (radius / length) * d : centre;
+  };
+  if (level_set::deepest_support_point(b, support, towards_b, c))
+    sink.add(c);
 }
 
 template <>
