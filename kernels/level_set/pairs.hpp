@@ -123,12 +123,17 @@ KOKKOS_INLINE_FUNCTION bool deepest_support_point(const LevelSetBodyView& b, con
 
 } // namespace level_set
 
-// A sphere (body a, centre c and radius r in b's frame) against a level-set body b: the centre
-// in b's grid (overlap r minus the value there, key (0, 0)); where the centre lies beyond the
-// grid, b's surface points inside the sphere (overlap r minus their distance from c, normal along
-// the line from the point to c, keys (0, 1 + point index)), which find b's corners, and the
-// sphere's deepest point in b's grid (key (0, 0)), which finds a face of b pressed into the sphere
-// between b's points. Contacts in b's frame, normals from b towards a.
+// A sphere (body a, centre c and radius r in b's frame) against a level-set body b, three ways
+// into the same patches: the centre in b's grid (overlap r minus the value there, key (0, 0)),
+// which finds a sphere smaller than the points' spacing; b's surface points inside the sphere
+// (overlap r minus their distance from c, normal along the line from the point to c, keys
+// (0, 1 + point index)), exact at b's corners, where the grid's value at a distant centre is
+// not (a convex body's distance is convex, so its trilinear value errs high and the overlap
+// low); and the sphere's deepest point in b's grid (key (0, 0)), which finds a face of b
+// pressed into a sphere too large for its centre to lie in the grid (through b's points alone,
+// such a sphere sank until a point lay inside it). The patch keeps the deepest. The trilinear
+// value of a body's exact distance errs by less than a cell's diagonal (1-Lipschitz), so a
+// centre beyond r plus that is apart. Contacts in b's frame, normals from b towards a.
 template <class Sink>
 KOKKOS_INLINE_FUNCTION void sphere_level_set_contacts(const LevelSetBodyView& b, Vec3 centre,
                                                       double radius, Sink& sink) {
@@ -137,14 +142,15 @@ KOKKOS_INLINE_FUNCTION void sphere_level_set_contacts(const LevelSetBodyView& b,
   c.feature_b = 0;
   LevelSetSample s;
   if (interpolate_level_set(b.grid, b.values, centre, s)) {
-    if (!(s.value < radius))
+    if (!(s.value < radius + 1.7320508075688772 * b.grid.spacing))
       return;
-    const Vec3 out = level_set::outward(s, centre);
-    c.overlap = radius - s.value;
-    c.normal = out;
-    c.point = centre - (radius - 0.5 * c.overlap) * out;
-    sink.add(c);
-    return;
+    if (s.value < radius) {
+      const Vec3 out = level_set::outward(s, centre);
+      c.overlap = radius - s.value;
+      c.normal = out;
+      c.point = centre - (radius - 0.5 * c.overlap) * out;
+      sink.add(c);
+    }
   }
   for (int q = 0; q < b.point_count; ++q) {
     const Vec3 x = b.points[q];

@@ -58,7 +58,8 @@ RelativePose shifted(Vec3 offset) {
 // that its face lies within A's): A's value is the exact distance to its top face there (the
 // signed distance of a box is affine near a face, and trilinear interpolation is exact for an
 // affine field), so every point of B's bottom face finds overlap delta and the normal -z (from B
-// towards A), to rounding. A's corners poke into nothing: none but bottom-face points count.
+// towards A), to rounding, and a point of B's side edges (whose own points are closer) delta
+// less its height above that face. A's corners poke into nothing.
 TEST(LevelSetContact, FlatFacesPressedTogetherFindTheExactOverlap) {
   const Vec3 half{2e-3, 1.5e-3, 1e-3};
   const LevelSetBody a = body_of(test::box_mesh(half.x, half.y, half.z), 0.2e-3, 0.25e-3);
@@ -69,9 +70,10 @@ TEST(LevelSetContact, FlatFacesPressedTogetherFindTheExactOverlap) {
                   found);
     ASSERT_GT(found.contacts.size(), 20u) << delta;
     for (const FeatureContact& c : found.contacts) {
-      EXPECT_NEAR(c.overlap, delta, 1e-12 * half.x) << delta;
+      const double height = b.surface_points[std::size_t(c.feature_b - 1)].z + 0.5e-3;
+      EXPECT_NEAR(c.overlap, delta - height, 1e-12 * half.x) << delta;
       EXPECT_LT(norm(c.normal - Vec3{0, 0, -1}), 1e-12) << delta;
-      EXPECT_NEAR(c.point.z, half.z - 0.5 * delta, 1e-12 * half.x) << delta;
+      EXPECT_NEAR(c.point.z, half.z - 0.5 * (delta - height), 1e-12 * half.x) << delta;
     }
   }
 }
@@ -114,8 +116,9 @@ TEST(LevelSetContact, SpheresFindTheirOverlapWithinTheStatedError) {
 }
 
 // A sphere against a level-set box, its centre in the box's grid: over a face, overlap
-// r - distance exactly (the box's value is exact there), normal the face's; a sphere far
-// smaller than the points' spacing is found all the same. A sphere too large for its centre to
+// r - distance exactly (the box's value is exact there, at the centre and at the sphere's
+// deepest point), normal the face's; a sphere far smaller than the points' spacing is found all
+// the same. A sphere too large for its centre to
 // lie in the grid is found through the box's points: its deepest point, a corner, gives the
 // exact overlap (the corners are always points).
 TEST(LevelSetContact, SpheresSmallAndLargeAgainstABox) {
@@ -125,9 +128,11 @@ TEST(LevelSetContact, SpheresSmallAndLargeAgainstABox) {
     AllContacts found;
     const double overlap = 0.2 * r;
     sphere_level_set_contacts(view_of(box), Vec3{0.4e-3, 0.1e-3, half.z + r - overlap}, r, found);
-    ASSERT_EQ(found.contacts.size(), 1u) << r;
-    EXPECT_NEAR(found.contacts[0].overlap, overlap, 1e-12 * half.x) << r;
-    EXPECT_LT(norm(found.contacts[0].normal - Vec3{0, 0, 1}), 1e-12) << r;
+    ASSERT_FALSE(found.contacts.empty()) << r;
+    EXPECT_NEAR(found.deepest().overlap, overlap, 1e-12 * half.x) << r;
+    EXPECT_LT(norm(found.deepest().normal - Vec3{0, 0, 1}), 1e-12) << r;
+    for (const FeatureContact& c : found.contacts) // the box's points inside: shallower
+      EXPECT_LE(c.overlap, overlap + 1e-12 * half.x) << r;
   }
   const double big = 20e-3, overlap = 0.05e-3;
   const Vec3 corner = half;
