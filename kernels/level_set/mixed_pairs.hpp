@@ -300,19 +300,13 @@ struct NarrowPhase<DilatedPolyhedronFamily, LevelSetFamily> : MixedLevelSetState
     ++tally.evaluations;
     const LevelSetBodyView body_b = LevelSetFamily::body(table, shapes, p, r.b);
     const DeviceCore core = DilatedPolyhedronFamily::core(polyhedra, shapes, p, r.a);
-    const Mat3 rotation_a = rotation_matrix(load_quat(p.orientation, r.a));
-    const Mat3 rotation_b = rotation_matrix(load_quat(p.orientation, r.b));
-    const Vec3 origin_a = load3(p.position, r.a), origin_b = load3(p.position, r.b);
-    const RelativePose b_in_a{transpose(rotation_a) * rotation_b,
-                              transpose_times(rotation_a, origin_b - origin_a)};
-    const RelativePose a_in_b{transpose(rotation_b) * rotation_a,
-                              transpose_times(rotation_b, origin_a - origin_b)};
+    const Poses q = poses(r);
     const double radius_a = DilatedPolyhedronFamily::equivalent_radius(polyhedra, shapes, p, r.a);
     const double radius_b = LevelSetFamily::equivalent_radius(table, shapes, p, r.b);
     LevelSetPatches<max_contacts> patches(table.settings, math::min(radius_a, radius_b));
-    points_in_core(body_b, core, b_in_a, a_in_b, p.radius(r.a), patches, tally);
-    core_in_grid(body_b, core, a_in_b, patches);
-    return finish(patches, rotation_b, origin_b, equivalent_series_radius(radius_a, radius_b),
+    points_in_core(body_b, core, q.b_in_a, q.a_in_b, p.radius(r.a), patches, tally);
+    core_in_grid(body_b, core, q.a_in_b, patches);
+    return finish(patches, q.rotation_b, q.origin_b, equivalent_series_radius(radius_a, radius_b),
                   found);
   }
 };

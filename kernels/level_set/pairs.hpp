@@ -40,6 +40,25 @@ struct LevelSetPairState {
   explicit LevelSetPairState(const ContactContext& c)
       : p(c.particles), shapes(c.shape_families), table(c.table<LevelSetFamily>()) {}
 
+  // The poses of a pair's bodies in the world and in each other's frame.
+  struct Poses {
+    Mat3 rotation_a, rotation_b;
+    Vec3 origin_a, origin_b;
+    RelativePose b_in_a, a_in_b;
+  };
+  KOKKOS_INLINE_FUNCTION Poses poses(const PairRef& r) const {
+    Poses q;
+    q.rotation_a = rotation_matrix(load_quat(p.orientation, r.a));
+    q.rotation_b = rotation_matrix(load_quat(p.orientation, r.b));
+    q.origin_a = load3(p.position, r.a);
+    q.origin_b = load3(p.position, r.b);
+    q.b_in_a = RelativePose{transpose(q.rotation_a) * q.rotation_b,
+                            transpose_times(q.rotation_a, q.origin_b - q.origin_a)};
+    q.a_in_b = RelativePose{transpose(q.rotation_b) * q.rotation_a,
+                            transpose_times(q.rotation_b, q.origin_a - q.origin_b)};
+    return q;
+  }
+
   KOKKOS_INLINE_FUNCTION bool bounding_spheres_apart(const PairRef& r) const {
     const double reach = p.radius(r.i) + p.radius(r.j);
     return !(norm2(load3(p.position, r.i) - load3(p.position, r.j)) < reach * reach);
@@ -216,24 +235,18 @@ struct NarrowPhase<LevelSetFamily, LevelSetFamily> : LevelSetPairState, EveryRow
     ++tally.evaluations;
     const LevelSetBodyView body_a = LevelSetFamily::body(table, shapes, p, r.a);
     const LevelSetBodyView body_b = LevelSetFamily::body(table, shapes, p, r.b);
-    const Mat3 rotation_a = rotation_matrix(load_quat(p.orientation, r.a));
-    const Mat3 rotation_b = rotation_matrix(load_quat(p.orientation, r.b));
-    const Vec3 origin_a = load3(p.position, r.a), origin_b = load3(p.position, r.b);
-    const RelativePose b_in_a{transpose(rotation_a) * rotation_b,
-                              transpose_times(rotation_a, origin_b - origin_a)};
-    const RelativePose a_in_b{transpose(rotation_b) * rotation_a,
-                              transpose_times(rotation_b, origin_a - origin_b)};
+    const Poses q = poses(r);
     const double radius_a = LevelSetFamily::equivalent_radius(table, shapes, p, r.a);
     const double radius_b = LevelSetFamily::equivalent_radius(table, shapes, p, r.b);
     LevelSetPatches<max_contacts> patches(table.settings, math::min(radius_a, radius_b));
     // One way: the points of the body of the higher index (j) in the other's grid.
     if (table.settings.both_ways || r.b == r.j)
-      points_inside(body_a, body_b, b_in_a, patches);
+      points_inside(body_a, body_b, q.b_in_a, patches);
     if (table.settings.both_ways || r.a == r.j) {
-      SwappedContactSink<max_contacts> swapped{patches, b_in_a};
-      points_inside(body_b, body_a, a_in_b, swapped);
+      SwappedContactSink<max_contacts> swapped{patches, q.b_in_a};
+      points_inside(body_b, body_a, q.a_in_b, swapped);
     }
-    return finish(patches, rotation_a, origin_a, equivalent_series_radius(radius_a, radius_b),
+    return finish(patches, q.rotation_a, q.origin_a, equivalent_series_radius(radius_a, radius_b),
                   found);
   }
 };
