@@ -88,16 +88,72 @@ KOKKOS_INLINE_FUNCTION bool interpolate_level_set(const LevelSetGrid& grid, cons
   return true;
 }
 
-// A level-set body as the contact code reads it: its grid and surface points (body frame).
+// The body's box (body frame) and a uniform grid of cells over it into which the surface points
+// are sorted, each cell's points contiguous: points first[c] to first[c + 1] - 1 lie in cell c.
+// A query over a box visits only the cells it overlaps; a row of cells along x is one run.
+// No point outside the box is inside the body: the trilinear value there is at least the box's
+// signed distance (positive), since that distance is convex, at most the body's, and trilinear
+// weights reproduce the point they interpolate at.
+struct LevelSetPointCells {
+  Vec3 lo, hi;     // m, the body's box: that of its mesh
+  double size = 1; // m, a cell's edge; cell (0, 0, 0) has its low corner at lo
+  int nx = 1, ny = 1, nz = 1;
+
+  KOKKOS_INLINE_FUNCTION int index(int i, int j, int k) const { return i + nx * (j + ny * k); }
+  KOKKOS_INLINE_FUNCTION int count() const { return nx * ny * nz; }
+  KOKKOS_INLINE_FUNCTION Vec3 centre() const { return 0.5 * (lo + hi); }
+  KOKKOS_INLINE_FUNCTION Vec3 half_extent() const { return 0.5 * (hi - lo); }
+  // The cell holding coordinate x along an axis (from lo_axis, n cells), clamped to the grid.
+  KOKKOS_INLINE_FUNCTION int cell_along(double x, double lo_axis, int n) const {
+    const double t = math::floor((x - lo_axis) / size);
+    return t < 0 ? 0 : (t > n - 1 ? n - 1 : int(t));
+  }
+  KOKKOS_INLINE_FUNCTION int cell_of(Vec3 x) const {
+    return index(cell_along(x.x, lo.x, nx), cell_along(x.y, lo.y, ny), cell_along(x.z, lo.z, nz));
+  }
+};
+
+// A level-set body as the contact code reads it: its grid, surface points (body frame) and the
+// cells they are sorted into.
 struct LevelSetBodyView {
   LevelSetGrid grid;
   const double* values = nullptr;
   const Vec3* points = nullptr;
   int point_count = 0;
   double reach = 0; // m, bounding radius about the body origin: no point beyond is inside
+  LevelSetPointCells cells;
+  const int* cell_first = nullptr; // cells.count() + 1 offsets into points
 
   KOKKOS_INLINE_FUNCTION bool sample(Vec3 p, LevelSetSample& s) const {
     return norm2(p) < reach * reach && interpolate_level_set(grid, values, p, s);
+  }
+
+  // Calls visit(q) for the index q of every point in the cells that the box [lo, hi] (body frame)
+  // overlaps, in index order; none where the box misses the body's box (or is NaN). A point in
+  // the box is always visited, others may be.
+  template <class Visit>
+  KOKKOS_INLINE_FUNCTION void for_points_in_box(Vec3 lo, Vec3 hi, const Visit& visit) const {
+    const LevelSetPointCells& c = cells;
+    if (!(lo.x <= c.hi.x && lo.y <= c.hi.y && lo.z <= c.hi.z && hi.x >= c.lo.x && hi.y >= c.lo.y &&
+          hi.z >= c.lo.z))
+      return;
+    const int i0 = c.cell_along(lo.x, c.lo.x, c.nx), i1 = c.cell_along(hi.x, c.lo.x, c.nx);
+    const int j0 = c.cell_along(lo.y, c.lo.y, c.ny), j1 = c.cell_along(hi.y, c.lo.y, c.ny);
+    const int k0 = c.cell_along(lo.z, c.lo.z, c.nz), k1 = c.cell_along(hi.z, c.lo.z, c.nz);
+    for (int k = k0; k <= k1; ++k)
+      for (int j = j0; j <= j1; ++j) {
+        const int last = cell_first[c.index(i1, j, k) + 1];
+        for (int q = cell_first[c.index(i0, j, k)]; q < last; ++q)
+          visit(q);
+      }
+  }
+
+  // for_points_in_box over the box of the ball (centre, radius).
+  template <class Visit>
+  KOKKOS_INLINE_FUNCTION void for_points_in_ball_box(Vec3 centre, double radius,
+                                                     const Visit& visit) const {
+    const Vec3 r{radius, radius, radius};
+    for_points_in_box(centre - r, centre + r, visit);
   }
 };
 
@@ -118,14 +174,24 @@ KOKKOS_INLINE_FUNCTION Vec3 outward(const LevelSetSample& s, Vec3 x) {
 // The surface points of body B (pose: B's frame in A's) inside body A's grid, as contacts in A's
 // frame: overlap minus the interpolated value, normal minus A's outward normal there (from B
 // towards A), point half the overlap out of A along it; keys (0, 1 + point index).
+// Only b's points in A's box (its box in B's frame, widened by rounding's margin) are tested.
 template <class Sink>
 KOKKOS_INLINE_FUNCTION void points_inside(const LevelSetBodyView& a, const LevelSetBodyView& b,
                                           const RelativePose& pose, Sink& sink) {
-  for (int q = 0; q < b.point_count; ++q) {
+  const Vec3 centre = transpose_times(pose.rotation, a.cells.centre() - pose.translation);
+  const Vec3 half = a.cells.half_extent();
+  const double margin = 1e-9 * (a.reach + b.reach);
+  const auto& r = pose.rotation.m;
+  const auto seen_along = [&](int k) { // |R^T| half: A's box along B's axis k
+    return math::fabs(r[0][k]) * half.x + math::fabs(r[1][k]) * half.y +
+           math::fabs(r[2][k]) * half.z + margin;
+  };
+  const Vec3 reach{seen_along(0), seen_along(1), seen_along(2)};
+  b.for_points_in_box(centre - reach, centre + reach, [&](int q) {
     const Vec3 x = pose.point(b.points[q]);
     LevelSetSample s;
     if (!a.sample(x, s) || !(s.value < 0))
-      continue;
+      return;
     const Vec3 out = level_set::outward(s, x);
     FeatureContact c;
     c.overlap = -s.value;
@@ -134,7 +200,7 @@ KOKKOS_INLINE_FUNCTION void points_inside(const LevelSetBodyView& a, const Level
     c.feature_a = 0;
     c.feature_b = 1 + q;
     sink.add(c);
-  }
+  });
 }
 
 // The surface points of a body (its frame) beyond the plane through `origin` with unit normal n

@@ -36,7 +36,10 @@ struct LevelSetOptions {
   double spacing = 0;       // m, the grid spacing (> 0)
   int padding = 2;          // cells of grid beyond the mesh's box on every side (>= 1)
   double point_spacing = 0; // m, the least distance between surface points (> 0)
-  std::uint32_t seed = 1;   // of the face candidates
+  // When positive, the points are about this many instead (point_spacing is then chosen, see
+  // spacing_for_count) and point_spacing is ignored.
+  int point_count = 0;
+  std::uint32_t seed = 1; // of the face candidates
   // Candidates drawn per point_spacing^2 of face area: enough that the rejection leaves no gap
   // wider than about twice the spacing.
   double candidates_per_area = 40;
@@ -45,13 +48,18 @@ struct LevelSetOptions {
 
 struct LevelSetBody {
   LevelSetGrid grid;
-  std::vector<double> values; // m, per node, negative inside
-  std::vector<Vec3> surface_points;
-  BodyMassProperties mass;    // of the mesh's interior, in the mesh's frame
-  double bounding_radius = 0; // m, of the mesh about the frame's origin
+  std::vector<double> values;       // m, per node, negative inside
+  std::vector<Vec3> surface_points; // sorted by cell
+  double point_spacing = 0;         // m, the least distance between them
+  LevelSetPointCells cells;         // the mesh's box and the cells over it
+  std::vector<int> cell_first;      // per cell, its first point; then the point count
+  BodyMassProperties mass;          // of the mesh's interior, in the mesh's frame
+  double bounding_radius = 0;       // m, of the mesh about the frame's origin
 
   std::size_t grid_bytes() const { return values.size() * sizeof(double); }
-  std::size_t point_bytes() const { return surface_points.size() * sizeof(Vec3); }
+  std::size_t point_bytes() const {
+    return surface_points.size() * sizeof(Vec3) + cell_first.size() * sizeof(int);
+  }
 };
 
 // The body as the contact code reads it, over the body's own storage (host).
@@ -62,6 +70,8 @@ inline LevelSetBodyView view_of(const LevelSetBody& body) {
   v.points = body.surface_points.data();
   v.point_count = int(body.surface_points.size());
   v.reach = body.bounding_radius;
+  v.cells = body.cells;
+  v.cell_first = body.cell_first.data();
   return v;
 }
 
@@ -92,7 +102,10 @@ inline void check_options(const LevelSetOptions& o) {
   if (o.padding < 1)
     throw std::invalid_argument("the grid padding must be at least 1 cell, not " +
                                 std::to_string(o.padding));
-  if (!(o.point_spacing > 0) || !std::isfinite(o.point_spacing))
+  if (o.point_count < 0 || o.point_count > 10000000)
+    throw std::invalid_argument("the surface point count must be in [1, 1e7], not " +
+                                std::to_string(o.point_count));
+  if (o.point_count == 0 && (!(o.point_spacing > 0) || !std::isfinite(o.point_spacing)))
     throw std::invalid_argument("the surface-point spacing must be positive, not " +
                                 std::to_string(o.point_spacing));
 }
@@ -250,6 +263,71 @@ inline std::vector<Vec3> surface_points(const DilatedCore& core, const LevelSetO
   return kept.points();
 }
 
+// The spacing whose surface points number `count` within 1 % (or the closest found): the count
+// falls as the spacing grows, so bisection on the spacing's logarithm, from a bracket of 8 times
+// either way about sqrt(area / count), 40 halvings at most.
+inline double spacing_for_count(const DilatedCore& core, LevelSetOptions o, int count) {
+  double area = 0;
+  for (const CoreFace& f : core.faces)
+    area +=
+        0.5 * norm(cross(core.vertex(f.vertex[1]).position - core.vertex(f.vertex[0]).position,
+                         core.vertex(f.vertex[2]).position - core.vertex(f.vertex[0]).position));
+  const double guess = std::sqrt(area / count);
+  double lo = std::log(guess / 8), hi = std::log(guess * 8);
+  double best = guess;
+  long long best_miss = -1;
+  for (int halving = 0; halving < 40; ++halving) {
+    const double middle = 0.5 * (lo + hi);
+    o.point_spacing = std::exp(middle);
+    const long long found = static_cast<long long>(surface_points(core, o).size());
+    const long long miss = std::llabs(found - count);
+    if (best_miss < 0 || miss < best_miss)
+      best = o.point_spacing, best_miss = miss;
+    if (100 * miss <= count)
+      break;
+    (found > count ? lo : hi) = middle;
+  }
+  return best;
+}
+
+// Cells over the core's box: edges of four point spacings (about 16 points to a cell of
+// surface), at most 32 cells along the longest axis.
+inline LevelSetPointCells point_cells_over(const DilatedCore& core, double point_spacing) {
+  LevelSetPointCells c;
+  c.lo = c.hi = core.vertex(0).position;
+  for (const CoreVertex& v : core.vertices) {
+    const Vec3 x = v.position;
+    c.lo = Vec3{std::min(c.lo.x, x.x), std::min(c.lo.y, x.y), std::min(c.lo.z, x.z)};
+    c.hi = Vec3{std::max(c.hi.x, x.x), std::max(c.hi.y, x.y), std::max(c.hi.z, x.z)};
+  }
+  const Vec3 extent = c.hi - c.lo;
+  const double longest = std::max({extent.x, extent.y, extent.z});
+  c.size = std::max(4 * point_spacing, longest / 32);
+  const auto cells_along = [&](double e) { return std::max(1, int(std::ceil(e / c.size))); };
+  c.nx = cells_along(extent.x);
+  c.ny = cells_along(extent.y);
+  c.nz = cells_along(extent.z);
+  return c;
+}
+
+// The body's points sorted by cell (in their kept order within a cell), and each cell's first.
+inline void sort_into_cells(LevelSetBody& body) {
+  const LevelSetPointCells& c = body.cells;
+  std::vector<int> cell(body.surface_points.size());
+  body.cell_first.assign(std::size_t(c.count()) + 1, 0);
+  for (std::size_t q = 0; q < cell.size(); ++q) {
+    cell[q] = c.cell_of(body.surface_points[q]);
+    ++body.cell_first[std::size_t(cell[q]) + 1];
+  }
+  for (std::size_t k = 1; k < body.cell_first.size(); ++k)
+    body.cell_first[k] += body.cell_first[k - 1];
+  std::vector<int> next(body.cell_first.begin(), body.cell_first.end() - 1);
+  std::vector<Vec3> sorted(body.surface_points.size());
+  for (std::size_t q = 0; q < cell.size(); ++q)
+    sorted[std::size_t(next[std::size_t(cell[q])]++)] = body.surface_points[q];
+  body.surface_points = std::move(sorted);
+}
+
 } // namespace level_set_build
 
 // The mass properties of a closed mesh's interior (points in its frame), with the checks of
@@ -271,10 +349,16 @@ inline LevelSetBody build_level_set(const std::vector<Vec3>& points,
   check_options(options);
   // The core's dilation radius plays no part in its distances.
   const DilatedCore core = build_dilated_core(points, triangles, options.spacing);
+  LevelSetOptions chosen = options;
+  if (options.point_count > 0)
+    chosen.point_spacing = spacing_for_count(core, options, options.point_count);
   LevelSetBody body;
-  body.grid = grid_over(core, options);
+  body.grid = grid_over(core, chosen);
   body.values = signed_distances(core, body.grid);
-  body.surface_points = surface_points(core, options);
+  body.surface_points = surface_points(core, chosen);
+  body.point_spacing = chosen.point_spacing;
+  body.cells = point_cells_over(core, chosen.point_spacing);
+  sort_into_cells(body);
   body.mass = properties_of(mesh_moments(core), Vec3{});
   for (const CoreVertex& v : core.vertices)
     body.bounding_radius = std::max(body.bounding_radius, norm(v.position));

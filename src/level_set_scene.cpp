@@ -32,7 +32,7 @@ constexpr double default_point_spacing_in_cells = 2;
 std::shared_ptr<const FamilyShapeParameters> read_level_set(const Value& value) {
   auto shape = std::make_shared<LevelSetShapeParameters>();
   std::vector<std::string> keys = mesh_source_keys();
-  keys.insert(keys.end(), {"grid_spacing", "padding", "point_spacing"});
+  keys.insert(keys.end(), {"grid_spacing", "padding", "point_spacing", "point_count"});
   const Mapping map(value, keys);
   MeshSource source = read_mesh_source(map, default_node_count);
   shape->mesh_file = source.description;
@@ -55,6 +55,14 @@ std::shared_ptr<const FamilyShapeParameters> read_level_set(const Value& value) 
     shape->point_spacing =
         number_where(*found, "a spacing in m between 1e-3 and 1 of the mesh's smallest extent",
                      [&](double l) { return l >= 1e-3 * size && l <= size; });
+  if (auto found = map.find("point_count")) {
+    if (map.find("point_spacing"))
+      found->expected("either point_spacing or point_count, not both");
+    const std::int64_t count = whole_number(*found, 4);
+    if (count > 1000000)
+      found->expected("a whole number of surface points in [4, 1000000]");
+    shape->point_count = int(count);
+  }
   return shape;
 }
 

@@ -1,9 +1,9 @@
 #pragma once
 // The level-set family's scene keys (level_set_scene.cpp): a shape entry `level_set: {mesh |
 // superquadric | harmonics, nodes, convex_hull, simplify_to, scale, grid_spacing, padding,
-// point_spacing}` (book chapter 5: a closed triangle mesh, convex or not, read from a file or built
-// by src/core_builders.hpp, turned into a signed-distance grid and surface points) and the
-// `level_set_contact` settings.
+// point_spacing | point_count}` (book chapter 5: a closed triangle mesh, convex or not, read from a
+// file or built by src/core_builders.hpp, turned into a signed-distance grid and surface points)
+// and the `level_set_contact` settings.
 #include <array>
 #include <string>
 #include <vector>
@@ -19,6 +19,7 @@ struct LevelSetShapeParameters : FamilyShapeParameters {
   double grid_spacing = 0;                   // m
   int padding = 2;                           // cells beyond the mesh's box
   double point_spacing = 0;                  // m, least distance between surface points
+  int point_count = 0; // > 0: about this many surface points instead (point_spacing is chosen)
   // The smallest half-width of the mesh's box.
   double smallest_size() const override;
 };

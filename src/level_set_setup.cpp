@@ -72,6 +72,7 @@ PrincipalLevelSet principal_level_set(const ShapeConfig& shape) {
     options.spacing = config.grid_spacing;
     options.padding = config.padding;
     options.point_spacing = config.point_spacing;
+    options.point_count = config.point_count;
     made.body = build_level_set(points, config.triangles, options);
     made.host.surface = drawn_surface(made.body);
   } catch (const std::invalid_argument& refused) {
@@ -105,7 +106,9 @@ std::vector<ShapeTemplate> LevelSetFamily::setup_templates(const FamilyShapes& f
                                                            Table& table) {
   std::vector<std::vector<double>> values;
   std::vector<std::vector<Vec3>> points;
+  std::vector<std::vector<int>> cell_first;
   std::vector<LevelSetGrid> grids;
+  std::vector<LevelSetPointCells> cells;
   std::vector<double> reach, equivalent;
   std::vector<ShapeTemplate> templates;
   table.settings = contact_settings(family.settings);
@@ -113,14 +116,18 @@ std::vector<ShapeTemplate> LevelSetFamily::setup_templates(const FamilyShapes& f
     PrincipalLevelSet made = principal_level_set(*shape);
     values.push_back(std::move(made.body.values));
     points.push_back(std::move(made.body.surface_points));
+    cell_first.push_back(std::move(made.body.cell_first));
     grids.push_back(made.body.grid);
+    cells.push_back(made.body.cells);
     reach.push_back(made.host.bounding_radius);
     equivalent.push_back(made.host.equivalent_radius);
     templates.push_back(std::move(made.host));
   }
   table.values = upload_ragged<double>("level_set_values", values);
   table.points = upload_ragged<Vec3>("level_set_points", points);
+  table.cell_first = upload_ragged<int>("level_set_cell_first", cell_first);
   table.grids = upload<LevelSetGrid>("level_set_grids", grids);
+  table.cells = upload<LevelSetPointCells>("level_set_cells", cells);
   table.reach = upload<double>("level_set_reach", reach);
   table.equivalent_radius = upload<double>("level_set_equivalent_radius", equivalent);
   return templates;

@@ -6,6 +6,11 @@
 
 #include "kernels/types.hpp"
 
+namespace kdem::testing {
+extern const char* const source_dir;
+const char* const source_dir = KDEM_SOURCE_DIR;
+} // namespace kdem::testing
+
 int main(int argc, char** argv) {
   setenv("OMP_PROC_BIND", "false", 0); // test runs share cores with other tests
   Kokkos::ScopeGuard kokkos(argc, argv);

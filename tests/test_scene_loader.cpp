@@ -1196,6 +1196,14 @@ TEST(SceneLevelSets, ShapeKeysAreReadWithTheirDefaults) {
                          "shapes[0].level_set.padding", "padding"));
   EXPECT_TRUE(fails_with(minimal_scene_plus(entry + ", dilation_radius: 0.001}\n"), 16,
                          "shapes[0].level_set.dilation_radius", "got the key"));
+  const SceneConfig counted = load_text(minimal_scene_plus(entry + ", point_count: 1500}\n"));
+  EXPECT_EQ(kdem::level_set_parameters(counted.shapes.at(0)).point_count, 1500);
+  EXPECT_EQ(shape.point_count, 0);
+  EXPECT_TRUE(
+      fails_with(minimal_scene_plus(entry + ", point_count: 1500, point_spacing: 2.0e-4}\n"), 16,
+                 "shapes[0].level_set.point_count", "not both"));
+  EXPECT_TRUE(fails_with(minimal_scene_plus(entry + ", point_count: 3}\n"), 16,
+                         "shapes[0].level_set.point_count", "3"));
 }
 
 TEST(SceneLevelSets, ContactSettingsAreReadAndChecked) {

@@ -9,6 +9,7 @@
 // direction). Against the other families, the level-set body's points meet the other body's
 // exact surface, and the other body's features its grid (mixed_pairs.hpp).
 #include "../../shapes/level_set.hpp"
+#include "../../shapes/oriented_box.hpp"
 #include "../dilated_polyhedron/family.hpp"
 #include "../families/family_rows.hpp"
 #include "../families/host_hooks.hpp"
@@ -45,11 +46,13 @@ struct LevelSetFamily {
   static constexpr bool shape_templates = true; // its scene shapes: `level_set` entries
 
   struct Table {
-    RaggedTable<double> values; // per template, node values (m)
-    RaggedTable<Vec3> points;   // per template, surface points (principal frame)
+    RaggedTable<double> values;  // per template, node values (m)
+    RaggedTable<Vec3> points;    // per template, surface points (principal frame), by cell
+    RaggedTable<int> cell_first; // per template, the first point of each cell, and the count
     DeviceView<LevelSetGrid*> grids;
-    ScalarView reach;             // m, bounding radius per template
-    ScalarView equivalent_radius; // m, of the sphere of the body's volume, per template
+    DeviceView<LevelSetPointCells*> cells; // per template, its box and the cells over it
+    ScalarView reach;                      // m, bounding radius per template
+    ScalarView equivalent_radius;          // m, of the sphere of the body's volume, per template
     LevelSetContactSettings settings;
   };
 
@@ -67,7 +70,18 @@ struct LevelSetFamily {
     b.points = t.points.values.data() + t.points.offsets(k);
     b.point_count = t.points.size(k);
     b.reach = t.reach(k);
+    b.cells = t.cells(k);
+    b.cell_first = t.cell_first.values.data() + t.cell_first.offsets(k);
     return b;
+  }
+
+  // The world box of body i: its template's box, posed.
+  KOKKOS_INLINE_FUNCTION static OrientedBox oriented_box(const Table& t, const ShapeFamilies& s,
+                                                         const ParticleViews& p, int i) {
+    const LevelSetPointCells& cells = t.cells(s.template_index(p.shape(i)));
+    const Mat3 rotation = rotation_matrix(load_quat(p.orientation, i));
+    return OrientedBox{load3(p.position, i) + rotation * cells.centre(), rotation,
+                       cells.half_extent()};
   }
 
   // Host side (src/level_set_setup.cpp): the mesh's mass properties and principal frame, the

@@ -60,17 +60,17 @@ struct MixedLevelSetState : LevelSetPairState {
   KOKKOS_INLINE_FUNCTION void points_in_piece(const LevelSetBodyView& b, Vec3 centre, double reach,
                                               int piece, const Inside& inside,
                                               LevelSetPatches<K>& patches) const {
-    for (int q = 0; q < b.point_count; ++q) {
+    b.for_points_in_ball_box(centre, reach, [&](int q) {
       const Vec3 x = b.points[q];
       if (!(norm2(x - centre) < reach * reach))
-        continue;
+        return;
       FeatureContact c;
       if (!inside(x, c))
-        continue;
+        return;
       c.feature_a = piece;
       c.feature_b = 1 + q;
       patches.add(c);
-    }
+    });
   }
 
   // A superquadric or poly-superquadric piece, posed in b's frame: b's points inside it, and its
@@ -248,14 +248,14 @@ struct NarrowPhase<DilatedPolyhedronFamily, LevelSetFamily> : MixedLevelSetState
                                              const RelativePose& b_in_a, const RelativePose& a_in_b,
                                              double reach_a, LevelSetPatches<K>& patches,
                                              NarrowPhaseTally& tally) const {
-    for (int q = 0; q < b.point_count; ++q) {
+    b.for_points_in_ball_box(a_in_b.translation, reach_a, [&](int q) {
       const Vec3 x = b_in_a.point(b.points[q]);
       if (!(norm2(x) < reach_a * reach_a))
-        continue;
+        return;
       CorePointSink<K> sink{patches, a_in_b, 1 + q};
       if (!dilated_sphere_contacts(core, x, 0.0, polyhedra.settings.slack, sink))
         ++tally.failures;
-    }
+    });
   }
 
   // The core's vertices and samples of its convex edges (at most a grid spacing apart), each

@@ -171,11 +171,11 @@ KOKKOS_INLINE_FUNCTION void sphere_level_set_contacts(const LevelSetBodyView& b,
       sink.add(c);
     }
   }
-  for (int q = 0; q < b.point_count; ++q) {
+  b.for_points_in_ball_box(centre, radius, [&](int q) {
     const Vec3 x = b.points[q];
     const double distance = norm(centre - x);
     if (!(distance < radius) || !(distance > 0))
-      continue;
+      return;
     FeatureContact p;
     p.overlap = radius - distance;
     p.normal = (1.0 / distance) * (centre - x);
@@ -183,7 +183,7 @@ KOKKOS_INLINE_FUNCTION void sphere_level_set_contacts(const LevelSetBodyView& b,
     p.feature_a = 0;
     p.feature_b = 1 + q;
     sink.add(p);
-  }
+  });
   const double from_origin = norm(centre);
   const Vec3 towards_b = from_origin > 0 ? (-1.0 / from_origin) * centre : Vec3{0, 0, -1};
   const auto support = [&](Vec3 d) {
@@ -219,7 +219,8 @@ struct NarrowPhase<SphereFamily, LevelSetFamily> : LevelSetPairState, EveryRowOf
   }
 };
 
-// Two level-set bodies, in a's frame: b's points in a's grid and, both ways, a's points in b's.
+// Two level-set bodies, in a's frame: b's points in a's grid and, both ways, a's points in b's;
+// after the bounding spheres, the bodies' boxes (no point outside a body's box is inside it).
 template <>
 struct NarrowPhase<LevelSetFamily, LevelSetFamily> : LevelSetPairState, EveryRowOfTheType {
   static constexpr const char* label = "kdem::level_set_forces";
@@ -231,6 +232,11 @@ struct NarrowPhase<LevelSetFamily, LevelSetFamily> : LevelSetPairState, EveryRow
   KOKKOS_INLINE_FUNCTION PairOutcome operator()(const PairRef& r, PairContacts<max_contacts>& found,
                                                 NarrowPhaseTally& tally) const {
     if (bounding_spheres_apart(r))
+      return PairOutcome::apart;
+    int separating_axis = -1;
+    if (!oriented_boxes_overlap(LevelSetFamily::oriented_box(table, shapes, p, r.a),
+                                LevelSetFamily::oriented_box(table, shapes, p, r.b),
+                                separating_axis))
       return PairOutcome::apart;
     ++tally.evaluations;
     const LevelSetBodyView body_a = LevelSetFamily::body(table, shapes, p, r.a);

@@ -64,23 +64,31 @@ struct LevelSetWallContact {
   }
 
   // The face contacts: points beyond the triangle's plane (seen from the body's origin), whose
-  // foot on the plane lies in the triangle and inside the body.
+  // foot on the plane lies in the triangle and inside the body. Such a point and its foot lie
+  // within the body's reach, so it lies in the triangle's prism two reaches deep: only the points
+  // in that prism's box are visited.
   KOKKOS_INLINE_FUNCTION void face_contacts(const LevelSetBodyView& body, const Vec3 (&corner)[3],
                                             Vec3 normal,
                                             LevelSetPatches<max_contacts>& patches) const {
     const double reach2 = body.reach * body.reach;
-    for (int q = 0; q < body.point_count; ++q) {
+    Vec3 lo = corner[0], hi = corner[0];
+    for (int k = 0; k < 6; ++k) {
+      const Vec3 x = k < 3 ? corner[k] : corner[k - 3] - (2 * body.reach) * normal;
+      lo = Vec3{math::min(lo.x, x.x), math::min(lo.y, x.y), math::min(lo.z, x.z)};
+      hi = Vec3{math::max(hi.x, x.x), math::max(hi.y, x.y), math::max(hi.z, x.z)};
+    }
+    body.for_points_in_box(lo, hi, [&](int q) {
       const Vec3 x = body.points[q];
       const double height = dot(x - corner[0], normal);
       if (!(height < 0))
-        continue;
+        return;
       const Vec3 foot = x - height * normal;
       Vec3 in_face;
       LevelSetSample s;
       if (norm2(foot) >= reach2 ||
           !dilated::face_interior(corner[0], corner[1], corner[2], normal, foot, in_face) ||
           !interpolate_level_set(body.grid, body.values, foot, s) || !(s.value < 0))
-        continue;
+        return;
       FeatureContact c;
       c.overlap = -height;
       c.normal = normal;
@@ -88,7 +96,7 @@ struct LevelSetWallContact {
       c.feature_a = 1 + q;
       c.feature_b = 6;
       patches.add(c);
-    }
+    });
   }
 
   // A wall point inside the body: overlap minus the value, normal against the body's outward

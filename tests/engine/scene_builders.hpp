@@ -129,9 +129,12 @@ inline std::unique_ptr<std::ofstream> validation_csv(const std::string& name,
   return file;
 }
 
+// The source tree (tests/main.cpp).
+extern const char* const source_dir;
+
 // A scene of tests/cli (small_hopper, small_superquadrics, drum), as its file says.
 inline SceneConfig cli_scene(const std::string& name) {
-  return load_scene(std::string(KDEM_SOURCE_DIR) + "/tests/cli/" + name + ".yaml");
+  return load_scene(std::string(source_dir) + "/tests/cli/" + name + ".yaml");
 }
 
 // What `steps` steps of a scene end with: positions by stable id, the narrow-phase totals, the

@@ -259,9 +259,9 @@ TEST(LevelSetBuild, MassPropertiesOfTheInteriorAreExact) {
 }
 
 // Surface points: on the surface (distance 0 to rounding), no two closer than the spacing
-// (checked pair by pair), every corner kept (sharpest first), and no gap: every one of 20000
-// uniform points on the surface lies within 1.5 spacings of a kept point. (A maximal Poisson
-// set leaves none beyond one spacing; the finite candidate count leaves a little more.)
+// (checked pair by pair), every corner kept (offered first, as the sharpest), and no gap: every one
+// of 20000 uniform points on the surface lies within 1.5 spacings of a kept point. (A maximal
+// Poisson set leaves none beyond one spacing; the finite candidate count leaves a little more.)
 TEST(LevelSetBuild, SurfacePointsAreSpacedAndCoverTheSurface) {
   const Vec3 half{0.5, 0.3, 0.2};
   const test::CoreMesh mesh = test::box_mesh(half.x, half.y, half.z);
@@ -270,10 +270,10 @@ TEST(LevelSetBuild, SurfacePointsAreSpacedAndCoverTheSurface) {
   const std::vector<Vec3>& points = body.surface_points;
   ASSERT_GT(points.size(), 100u);
   for (int c = 0; c < 8; ++c) {
-    const Vec3 p = points[std::size_t(c)];
-    EXPECT_NEAR(std::fabs(p.x), half.x, 1e-15) << "corner " << c;
-    EXPECT_NEAR(std::fabs(p.y), half.y, 1e-15) << "corner " << c;
-    EXPECT_NEAR(std::fabs(p.z), half.z, 1e-15) << "corner " << c;
+    const Vec3 corner{c & 1 ? half.x : -half.x, c & 2 ? half.y : -half.y, c & 4 ? half.z : -half.z};
+    const bool kept = std::any_of(points.begin(), points.end(),
+                                  [&](const Vec3& p) { return norm(p - corner) <= 1e-15; });
+    EXPECT_TRUE(kept) << "corner " << c;
   }
   for (std::size_t a = 0; a < points.size(); ++a) {
     EXPECT_NEAR(box_distance(points[a], half), 0, 1e-15) << "point " << a;
