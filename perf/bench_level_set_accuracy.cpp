@@ -7,8 +7,10 @@
 // the other's grid, merged into patches, averaged). Per (M, h, l): the median and largest
 // relative overlap error (against a / 100; a pair the level sets do not find, `missed`, counts
 // its whole overlap), the median and largest normal error (rad; the force-weighted normal of the
-// patches), the time per pair of each method (median of --repeat sweeps, one thread), and the
-// memory per template (grid and points).
+// patches), the time per pair of each method (median of --repeat sweeps, one thread): the
+// engine's (the points of the cells near the other body's surface), through the cells under the
+// other body's box alone, and with every point tested; and the memory per template (grid, points
+// and cells).
 //
 //   kdem_bench_level_set_accuracy [--repeat R] [--pairs N] [--out FILE.json]
 //
@@ -23,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "kernels/level_set/pairs.hpp"
 #include "kernels/level_set/patches.hpp"
 #include "shapes/level_set_build.hpp"
 #include "shapes/superquadric_contact.hpp"
@@ -107,7 +110,8 @@ struct Swapped {
   }
 };
 
-// Both bodies' points in the other's grid, in a's frame (the engine's level-set pair).
+// Both bodies' points in the other's grid, in a's frame (the engine's level-set pair: the
+// points of the cells near the other body's surface).
 Collected level_set_pair(const LevelSetBodyView& body, const Pair& p, double equivalent) {
   const LevelSetContactSettings settings = engine_settings();
   const RelativePose b_in_a{transpose(p.rotation_a) * p.rotation_b,
@@ -115,11 +119,40 @@ Collected level_set_pair(const LevelSetBodyView& body, const Pair& p, double equ
   const RelativePose a_in_b{transpose(p.rotation_b) * p.rotation_a,
                             transpose_times(p.rotation_b, -p.offset)};
   Collected found(settings, equivalent);
+  points_near_inside(body, body, b_in_a, found);
+  Swapped swapped{found, b_in_a};
+  points_near_inside(body, body, a_in_b, swapped);
+  return found;
+}
+
+// The same pair through the cells under the other body's box alone (points_inside).
+Collected box_culled_pair(const LevelSetBodyView& body, const Pair& p, double equivalent) {
+  const RelativePose b_in_a{transpose(p.rotation_a) * p.rotation_b,
+                            transpose_times(p.rotation_a, p.offset)};
+  const RelativePose a_in_b{transpose(p.rotation_b) * p.rotation_a,
+                            transpose_times(p.rotation_b, -p.offset)};
+  Collected found(engine_settings(), equivalent);
   points_inside(body, body, b_in_a, found);
   Swapped swapped{found, b_in_a};
   points_inside(body, body, a_in_b, swapped);
   return found;
 }
+
+// The body with all its points in one cell spanning all space, so that a query visits every
+// point, as before the points were sorted into cells: the reference the cells are timed against.
+struct OneCell {
+  LevelSetBodyView view;
+  int first[2];
+  explicit OneCell(const LevelSetBodyView& body) : view(body), first{0, body.point_count} {
+    // Centred on the body's origin, which lies inside it, so that no test skips the cell.
+    view.cells.lo = Vec3{-1e6, -1e6, -1e6};
+    view.cells.hi = Vec3{1e6, 1e6, 1e6};
+    view.cells.size = 2e6;
+    view.cells.nx = view.cells.ny = view.cells.nz = 1;
+    view.cell_first = first;
+  }
+  OneCell(const OneCell&) = delete;
+};
 
 struct Averaged {
   double overlap = 0;
@@ -250,7 +283,22 @@ int main(int argc, char** argv) {
             if (sink == -1)
               std::puts("");
           });
-          char row[800];
+          const double box_culled_seconds = seconds_per_call(repeat, pair_count, [&] {
+            int sink = 0;
+            for (const Pair& p : all)
+              sink += box_culled_pair(view, p, equivalent).count;
+            if (sink == -1)
+              std::puts("");
+          });
+          const OneCell every_point(view);
+          const double every_point_seconds = seconds_per_call(repeat, pair_count, [&] {
+            int sink = 0;
+            for (const Pair& p : all)
+              sink += level_set_pair(every_point.view, p, equivalent).count;
+            if (sink == -1)
+              std::puts("");
+          });
+          char row[1000];
           std::snprintf(
               row, sizeof row,
               "%s      {\"nodes\": %d, \"cells_across\": %g, \"grid_spacing_over_a\": %.4g, "
@@ -258,18 +306,20 @@ int main(int argc, char** argv) {
               "\"grid_bytes\": %zu, \"point_bytes\": %zu, \"build_seconds\": %.3f, "
               "\"overlap_error_median\": %.4g, \"overlap_error_max\": %.4g, "
               "\"normal_error_median_rad\": %.4g, \"normal_error_max_rad\": %.4g, "
-              "\"missed\": %d, \"ns_per_pair\": %.1f}",
+              "\"missed\": %d, \"ns_per_pair\": %.1f, \"ns_per_pair_box_culled\": %.1f, "
+              "\"ns_per_pair_every_point\": %.1f}",
               first ? "" : ",\n", nodes, cells, options.spacing / s.a, options.point_spacing / s.a,
               body.values.size(), body.surface_points.size(), body.grid_bytes(), body.point_bytes(),
               build_seconds, median(overlap_errors), largest(overlap_errors), median(normal_errors),
-              largest(normal_errors), missed, 1e9 * seconds);
+              largest(normal_errors), missed, 1e9 * seconds, 1e9 * box_culled_seconds,
+              1e9 * every_point_seconds);
           json += row;
           first = false;
           std::fprintf(stderr,
                        "%s nodes %d cells %g points %g: overlap error median %.3g, %d "
-                       "missed, %.0f ns\n",
+                       "missed, %.0f ns (under the box: %.0f ns, every point: %.0f ns)\n",
                        shapes[k].name.c_str(), nodes, cells, ratio, median(overlap_errors), missed,
-                       1e9 * seconds);
+                       1e9 * seconds, 1e9 * box_culled_seconds, 1e9 * every_point_seconds);
         }
     }
     json += std::string("\n    ]}") + (k + 1 < shapes.size() ? "," : "") + "\n";

@@ -1,7 +1,8 @@
 // The cells a level-set body's surface points are sorted into, and the tests that skip points by
 // them: a box query visits every point in the box (against a brute-force scan), the culled
-// points-in-grid test finds exactly what testing every point finds, two bodies whose boxes are
-// apart have no point inside the other, and a chosen point count is met within 1 %.
+// points-in-grid tests (the cells under the other body's box, and those near its surface) find
+// exactly what testing every point finds, two bodies whose boxes are apart have no point inside
+// the other, and a chosen point count is met within 1 %.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,6 +13,7 @@
 
 #include "dilated_test_support.hpp"
 #include "geometry_test_support.hpp"
+#include "kernels/level_set/pairs.hpp"
 #include "shapes/level_set_build.hpp"
 #include "shapes/oriented_box.hpp"
 #include "src/core_builders.hpp"
@@ -139,30 +141,37 @@ TEST(LevelSetCells, BoxQueriesVisitEveryPointInTheBox) {
   }
 }
 
-// Random poses of the rod against the ball and against another rod, overlapping or not: the
-// points inside the other's grid, through the cells, are exactly those that testing every point
-// finds, in the same order, with the same overlaps and normals bit for bit. At least 100 of the
-// 1000 poses touch.
+void expect_same(const std::vector<Found>& found, const std::vector<Found>& every, int trial) {
+  ASSERT_EQ(found.size(), every.size()) << "trial " << trial;
+  for (std::size_t k = 0; k < every.size(); ++k) {
+    ASSERT_EQ(found[k].point, every[k].point) << "trial " << trial;
+    ASSERT_EQ(found[k].overlap, every[k].overlap) << "trial " << trial;
+    ASSERT_EQ(found[k].normal.x, every[k].normal.x) << "trial " << trial;
+    ASSERT_EQ(found[k].normal.z, every[k].normal.z) << "trial " << trial;
+  }
+}
+
+// Random poses of the rod and the ball against a rod and against a ball, overlapping or not: the
+// points inside the other's grid through the cells under its box (points_inside), and through
+// the cells near its surface (points_near_inside, the engine's), are exactly those that testing
+// every point finds, in the same order, with the same overlaps and normals bit for bit. At least
+// 100 of the 2000 poses touch.
 TEST(LevelSetCells, CulledPointsInsideFindWhatEveryPointFinds) {
   std::mt19937_64 rng(23);
   const LevelSetBody r = rod(), b = ball();
   const LevelSetBodyView rod_view = view_of(r), ball_view = view_of(b);
   int touching = 0;
-  for (int trial = 0; trial < 1000; ++trial) {
-    const bool rods = trial % 2 == 0;
-    const LevelSetBodyView& a = rods ? rod_view : ball_view;
-    const RelativePose pose = random_pose(rng, rods ? 0.6 : 0.5);
-    Collected culled;
-    points_inside(a, rod_view, pose, culled);
-    const std::vector<Found> every = every_point_inside(a, rod_view, pose);
-    ASSERT_EQ(culled.found.size(), every.size()) << "trial " << trial;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const LevelSetBodyView& a = trial % 2 == 0 ? rod_view : ball_view;
+    const LevelSetBodyView& points_of = trial % 4 < 2 ? rod_view : ball_view;
+    const RelativePose pose = random_pose(rng, 0.6);
+    const std::vector<Found> every = every_point_inside(a, points_of, pose);
     touching += every.empty() ? 0 : 1;
-    for (std::size_t k = 0; k < every.size(); ++k) {
-      ASSERT_EQ(culled.found[k].point, every[k].point) << "trial " << trial;
-      ASSERT_EQ(culled.found[k].overlap, every[k].overlap) << "trial " << trial;
-      ASSERT_EQ(culled.found[k].normal.x, every[k].normal.x) << "trial " << trial;
-      ASSERT_EQ(culled.found[k].normal.z, every[k].normal.z) << "trial " << trial;
-    }
+    Collected under_box, near_surface;
+    points_inside(a, points_of, pose, under_box);
+    points_near_inside(a, points_of, pose, near_surface);
+    expect_same(under_box.found, every, trial);
+    expect_same(near_surface.found, every, trial);
   }
   EXPECT_GE(touching, 100);
 }
