@@ -43,6 +43,10 @@ struct LevelSetOptions {
   // Candidates drawn per point_spacing^2 of face area: enough that the rejection leaves no gap
   // wider than about twice the spacing.
   double candidates_per_area = 40;
+  // Edge of the cells the points are sorted into, in point spacings (see point_cells_over).
+  // Four (about 16 points to a cell of surface): as fast as two and faster than one in two
+  // level-set bodies' pairs (docs/performance.md, section 28), with fewer cells.
+  double cell_size_in_point_spacings = 4;
   long long max_nodes = 64ll << 20; // a larger grid is refused (8 bytes per node)
 };
 
@@ -290,9 +294,9 @@ inline double spacing_for_count(const DilatedCore& core, LevelSetOptions o, int 
   return best;
 }
 
-// Cells over the core's box: edges of four point spacings (about 16 points to a cell of
-// surface), at most 32 cells along the longest axis.
-inline LevelSetPointCells point_cells_over(const DilatedCore& core, double point_spacing) {
+// Cells over the core's box: edges of `cell_size` (a few point spacings), at most 32 cells along
+// the longest axis.
+inline LevelSetPointCells point_cells_over(const DilatedCore& core, double cell_size) {
   LevelSetPointCells c;
   c.lo = c.hi = core.vertex(0).position;
   for (const CoreVertex& v : core.vertices) {
@@ -302,7 +306,7 @@ inline LevelSetPointCells point_cells_over(const DilatedCore& core, double point
   }
   const Vec3 extent = c.hi - c.lo;
   const double longest = std::max({extent.x, extent.y, extent.z});
-  c.size = std::max(4 * point_spacing, longest / 32);
+  c.size = std::max(cell_size, longest / 32);
   const auto cells_along = [&](double e) { return std::max(1, int(std::ceil(e / c.size))); };
   c.nx = cells_along(extent.x);
   c.ny = cells_along(extent.y);
@@ -357,7 +361,7 @@ inline LevelSetBody build_level_set(const std::vector<Vec3>& points,
   body.values = signed_distances(core, body.grid);
   body.surface_points = surface_points(core, chosen);
   body.point_spacing = chosen.point_spacing;
-  body.cells = point_cells_over(core, chosen.point_spacing);
+  body.cells = point_cells_over(core, chosen.cell_size_in_point_spacings * chosen.point_spacing);
   sort_into_cells(body);
   body.mass = properties_of(mesh_moments(core), Vec3{});
   for (const CoreVertex& v : core.vertices)

@@ -140,80 +140,7 @@ KOKKOS_INLINE_FUNCTION bool deepest_support_point(const LevelSetBodyView& b, con
   return found;
 }
 
-// The trilinear value of a distance changes by at most sqrt(3) per metre: each partial
-// derivative is a weighted mean of node differences along its axis over the spacing, at most 1
-// for a 1-Lipschitz field.
-constexpr double trilinear_lipschitz = 1.7320508075688772;
-
-// The range of b's cells (i0..i1, j0..j1, k0..k1) that a's box, seen in b's frame, overlaps
-// (pose: b's frame in a's); false where it overlaps none.
-struct CellRange {
-  int lo[3], hi[3];
-};
-KOKKOS_INLINE_FUNCTION bool cells_under_box(const LevelSetBodyView& a, const LevelSetBodyView& b,
-                                            const RelativePose& pose, CellRange& range) {
-  const Vec3 centre = transpose_times(pose.rotation, a.cells.centre() - pose.translation);
-  const Vec3 half = a.cells.half_extent();
-  const double margin = 1e-9 * (a.reach + b.reach);
-  const auto& r = pose.rotation.m;
-  const LevelSetPointCells& c = b.cells;
-  const Vec3 lo_b = c.lo, hi_b = c.hi;
-  const int n[3] = {c.nx, c.ny, c.nz};
-  for (int k = 0; k < 3; ++k) {
-    const double reach = math::fabs(r[0][k]) * half.x + math::fabs(r[1][k]) * half.y +
-                         math::fabs(r[2][k]) * half.z + margin;
-    const double lo = centre[k] - reach, hi = centre[k] + reach;
-    if (!(lo <= hi_b[k] && hi >= lo_b[k]))
-      return false;
-    range.lo[k] = c.cell_along(lo, lo_b[k], n[k]);
-    range.hi[k] = c.cell_along(hi, lo_b[k], n[k]);
-  }
-  return true;
-}
-
 } // namespace level_set
-
-// The surface points of body b inside body a's grid, as points_inside finds them (the same
-// contacts in the same order), visiting fewer: of b's cells under a's box, only those whose
-// centre lies within sqrt(3) half-diagonals of a's zero level (a's value there at most
-// trilinear_lipschitz times the half-diagonal), or outside a's grid within its reach. A point in
-// a cell farther out has a positive value, by the Lipschitz bound. For two bodies that touch,
-// this leaves the cells near the contact.
-template <class Sink>
-KOKKOS_INLINE_FUNCTION void points_near_inside(const LevelSetBodyView& a, const LevelSetBodyView& b,
-                                               const RelativePose& pose, Sink& sink) {
-  level_set::CellRange range;
-  if (!level_set::cells_under_box(a, b, pose, range))
-    return;
-  const LevelSetPointCells& c = b.cells;
-  const double half_diagonal = 0.8660254037844386 * c.size;
-  const double far = level_set::trilinear_lipschitz * half_diagonal * (1 + 1e-9);
-  for (int k = range.lo[2]; k <= range.hi[2]; ++k)
-    for (int j = range.lo[1]; j <= range.hi[1]; ++j)
-      for (int i = range.lo[0]; i <= range.hi[0]; ++i) {
-        const int cell = c.index(i, j, k);
-        const int first = b.cell_first[cell], last = b.cell_first[cell + 1];
-        if (first == last)
-          continue;
-        const Vec3 centre = pose.point(c.lo + c.size * Vec3{i + 0.5, j + 0.5, k + 0.5});
-        LevelSetSample s;
-        if (a.sample(centre, s) ? s.value > far : !(norm(centre) < a.reach + half_diagonal))
-          continue;
-        for (int q = first; q < last; ++q) {
-          const Vec3 x = pose.point(b.points[q]);
-          if (!a.sample(x, s) || !(s.value < 0))
-            continue;
-          const Vec3 out = level_set::outward(s, x);
-          FeatureContact f;
-          f.overlap = -s.value;
-          f.normal = -out;
-          f.point = x + (0.5 * f.overlap) * out;
-          f.feature_a = 0;
-          f.feature_b = 1 + q;
-          sink.add(f);
-        }
-      }
-}
 
 // A sphere (body a, centre c and radius r in b's frame) against a level-set body b, three ways
 // into the same patches: the centre in b's grid (overlap r minus the value there, key (0, 0)),
@@ -320,10 +247,10 @@ struct NarrowPhase<LevelSetFamily, LevelSetFamily> : LevelSetPairState, EveryRow
     LevelSetPatches<max_contacts> patches(table.settings, math::min(radius_a, radius_b));
     // One way: the points of the body of the higher index (j) in the other's grid.
     if (table.settings.both_ways || r.b == r.j)
-      points_near_inside(body_a, body_b, q.b_in_a, patches);
+      points_inside(body_a, body_b, q.b_in_a, patches);
     if (table.settings.both_ways || r.a == r.j) {
       SwappedContactSink<max_contacts> swapped{patches, q.b_in_a};
-      points_near_inside(body_b, body_a, q.a_in_b, swapped);
+      points_inside(body_b, body_a, q.a_in_b, swapped);
     }
     return finish(patches, q.rotation_a, q.origin_a, equivalent_series_radius(radius_a, radius_b),
                   found);
