@@ -109,8 +109,10 @@ struct Swapped {
 };
 
 // Both bodies' points in the other's grid, in a's frame (the engine's level-set pair: the
-// points of the cells under the other body's box).
-Collected level_set_pair(const LevelSetBodyView& body, const Pair& p, double equivalent) {
+// points of the cells under the other body's box); one way: b's points in a's grid only (the
+// engine's `points: one_way`, b standing for the body of the higher index).
+Collected level_set_pair(const LevelSetBodyView& body, const Pair& p, double equivalent,
+                         bool one_way) {
   const LevelSetContactSettings settings = engine_settings();
   const RelativePose b_in_a{transpose(p.rotation_a) * p.rotation_b,
                             transpose_times(p.rotation_a, p.offset)};
@@ -118,6 +120,8 @@ Collected level_set_pair(const LevelSetBodyView& body, const Pair& p, double equ
                             transpose_times(p.rotation_b, -p.offset)};
   Collected found(settings, equivalent);
   points_inside(body, body, b_in_a, found);
+  if (one_way)
+    return found;
   Swapped swapped{found, b_in_a};
   points_inside(body, body, a_in_b, swapped);
   return found;
@@ -191,7 +195,7 @@ template <class F> double seconds_per_call(int repeat, int calls, F&& sweep) {
 int main(int argc, char** argv) {
   int repeat = 5, pair_count = 300;
   double cell_size = LevelSetOptions{}.cell_size_in_point_spacings;
-  bool quick = false;
+  bool quick = false, one_way = false;
   std::string out = "perf/results/level_set_accuracy.json";
   for (int k = 1; k < argc; ++k) {
     if (std::strcmp(argv[k], "--repeat") == 0 && k + 1 < argc)
@@ -204,9 +208,12 @@ int main(int argc, char** argv) {
       cell_size = std::stod(argv[++k]);
     else if (std::strcmp(argv[k], "--quick") == 0)
       quick = true;
+    else if (std::strcmp(argv[k], "--one-way") == 0)
+      one_way = true;
     else {
-      std::fprintf(stderr, "usage: kdem_bench_level_set_accuracy [--repeat R] [--pairs N] "
-                           "[--out FILE.json] [--cell-size POINT_SPACINGS] [--quick]\n");
+      std::fprintf(stderr,
+                   "usage: kdem_bench_level_set_accuracy [--repeat R] [--pairs N] "
+                   "[--out FILE.json] [--cell-size POINT_SPACINGS] [--quick] [--one-way]\n");
       return 2;
     }
   }
@@ -225,6 +232,7 @@ int main(int argc, char** argv) {
                      std::string(git_hash()) + "\",\n  \"repeat\": " + std::to_string(repeat) +
                      ",\n  \"pairs\": " + std::to_string(pair_count) +
                      ",\n  \"cell_size_in_point_spacings\": " + std::to_string(cell_size) +
+                     ",\n  \"points\": \"" + (one_way ? "one_way" : "both_ways") + "\"" +
                      ",\n  \"shapes\": [\n";
   for (std::size_t k = 0; k < shapes.size(); ++k) {
     const SuperquadricShape& s = shapes[k].s;
@@ -263,7 +271,7 @@ int main(int argc, char** argv) {
           std::vector<double> overlap_errors, normal_errors;
           int missed = 0;
           for (const Pair& p : all) {
-            const Averaged a = averaged(level_set_pair(view, p, equivalent));
+            const Averaged a = averaged(level_set_pair(view, p, equivalent, one_way));
             if (!a.touching) {
               ++missed;
               overlap_errors.push_back(1.0);
@@ -277,7 +285,7 @@ int main(int argc, char** argv) {
           const double seconds = seconds_per_call(repeat, pair_count, [&] {
             int sink = 0;
             for (const Pair& p : all)
-              sink += level_set_pair(view, p, equivalent).count;
+              sink += level_set_pair(view, p, equivalent, one_way).count;
             if (sink == -1)
               std::puts("");
           });
@@ -285,7 +293,7 @@ int main(int argc, char** argv) {
           const double every_point_seconds = seconds_per_call(repeat, pair_count, [&] {
             int sink = 0;
             for (const Pair& p : all)
-              sink += level_set_pair(every_point.view, p, equivalent).count;
+              sink += level_set_pair(every_point.view, p, equivalent, one_way).count;
             if (sink == -1)
               std::puts("");
           });
