@@ -88,6 +88,34 @@ std::vector<Pair> pairs(const SuperquadricShape& s, int count, double overlap, u
   return out;
 }
 
+// The pairs of each shape as JSON, for a peer to evaluate the same poses: the shape, its
+// rotations (row-major), b's offset, and the exact overlap and normal (from b towards a).
+std::string pairs_json(const Shape& shape, const std::vector<Pair>& all) {
+  const SuperquadricShape& s = shape.s;
+  std::string json = "    {\"name\": \"" + shape.name + "\", \"half_axes\": [" +
+                     std::to_string(s.a) + ", " + std::to_string(s.b) + ", " + std::to_string(s.c) +
+                     "], \"n1\": " + std::to_string(s.n1) + ", \"n2\": " + std::to_string(s.n2) +
+                     ", \"pairs\": [\n";
+  char row[1200];
+  for (std::size_t k = 0; k < all.size(); ++k) {
+    const Pair& p = all[k];
+    const auto& ra = p.rotation_a.m;
+    const auto& rb = p.rotation_b.m;
+    const Vec3 n = p.exact.geometry.normal;
+    std::snprintf(row, sizeof row,
+                  "      {\"rotation_a\": [%.17g, %.17g, %.17g, %.17g, %.17g, %.17g, %.17g, %.17g, "
+                  "%.17g], \"rotation_b\": [%.17g, %.17g, %.17g, %.17g, %.17g, %.17g, %.17g, "
+                  "%.17g, %.17g], \"offset\": [%.17g, %.17g, %.17g], \"exact_overlap\": %.17g, "
+                  "\"exact_normal\": [%.17g, %.17g, %.17g]}%s\n",
+                  ra[0][0], ra[0][1], ra[0][2], ra[1][0], ra[1][1], ra[1][2], ra[2][0], ra[2][1],
+                  ra[2][2], rb[0][0], rb[0][1], rb[0][2], rb[1][0], rb[1][1], rb[1][2], rb[2][0],
+                  rb[2][1], rb[2][2], p.offset.x, p.offset.y, p.offset.z, p.exact.geometry.overlap,
+                  n.x, n.y, n.z, k + 1 < all.size() ? "," : "");
+    json += row;
+  }
+  return json + "    ]}";
+}
+
 constexpr int pair_points = max_pair_contact_points;
 using Collected = LevelSetPatches<pair_points>;
 
@@ -196,6 +224,7 @@ int main(int argc, char** argv) {
   int repeat = 5, pair_count = 300;
   double cell_size = LevelSetOptions{}.cell_size_in_point_spacings;
   bool quick = false, one_way = false;
+  std::string pairs_out;
   std::string out = "perf/results/level_set_accuracy.json";
   for (int k = 1; k < argc; ++k) {
     if (std::strcmp(argv[k], "--repeat") == 0 && k + 1 < argc)
@@ -210,10 +239,12 @@ int main(int argc, char** argv) {
       quick = true;
     else if (std::strcmp(argv[k], "--one-way") == 0)
       one_way = true;
+    else if (std::strcmp(argv[k], "--pairs-out") == 0 && k + 1 < argc)
+      pairs_out = argv[++k];
     else {
-      std::fprintf(stderr,
-                   "usage: kdem_bench_level_set_accuracy [--repeat R] [--pairs N] "
-                   "[--out FILE.json] [--cell-size POINT_SPACINGS] [--quick] [--one-way]\n");
+      std::fprintf(stderr, "usage: kdem_bench_level_set_accuracy [--repeat R] [--pairs N] "
+                           "[--out FILE.json] [--cell-size POINT_SPACINGS] [--quick] [--one-way] "
+                           "[--pairs-out PAIRS.json]\n");
       return 2;
     }
   }
@@ -234,10 +265,12 @@ int main(int argc, char** argv) {
                      ",\n  \"cell_size_in_point_spacings\": " + std::to_string(cell_size) +
                      ",\n  \"points\": \"" + (one_way ? "one_way" : "both_ways") + "\"" +
                      ",\n  \"shapes\": [\n";
+  std::string pair_sets;
   for (std::size_t k = 0; k < shapes.size(); ++k) {
     const SuperquadricShape& s = shapes[k].s;
     const double overlap = s.a / 100;
     const std::vector<Pair> all = pairs(s, pair_count, overlap, 29 + unsigned(k));
+    pair_sets += (k ? ",\n" : "") + pairs_json(shapes[k], all);
     const double exact_seconds = seconds_per_call(repeat, pair_count, [&] {
       double sink = 0;
       for (const Pair& p : all)
@@ -325,6 +358,13 @@ int main(int argc, char** argv) {
   const std::string tmp = out + ".tmp";
   std::ofstream(tmp) << json;
   std::rename(tmp.c_str(), out.c_str());
+  if (!pairs_out.empty()) {
+    const std::string pairs_tmp = pairs_out + ".tmp";
+    std::ofstream(pairs_tmp) << "{\n  \"git_hash\": \"" << git_hash() << "\",\n  \"shapes\": [\n"
+                             << pair_sets << "\n  ]\n}\n";
+    std::rename(pairs_tmp.c_str(), pairs_out.c_str());
+    std::printf("wrote %s\n", pairs_out.c_str());
+  }
   std::printf("wrote %s\n", out.c_str());
   return 0;
 }
