@@ -12,6 +12,12 @@
 // and the memory per template (grid, points and cells).
 //
 //   kdem_bench_level_set_accuracy [--repeat R] [--pairs N] [--out FILE.json]
+//   kdem_bench_level_set_accuracy --pairs-in POSES.txt --pairs-eval-out FILE.csv
+//
+// The second form evaluates given poses (a peer's or a run's; one pair per line: a's shape
+// index and b's, a's rotation and b's row by row, b's centre from a's, in units of a) at the
+// defaults (8000 nodes, h = 2c / 40, points 2 h apart): the exact overlap and normal and the
+// level sets'.
 //
 // Host code, one thread.
 #include <algorithm>
@@ -139,19 +145,19 @@ struct Swapped {
 // Both bodies' points in the other's grid, in a's frame (the engine's level-set pair: the
 // points of the cells under the other body's box); one way: b's points in a's grid only (the
 // engine's `points: one_way`, b standing for the body of the higher index).
-Collected level_set_pair(const LevelSetBodyView& body, const Pair& p, double equivalent,
-                         bool one_way) {
+Collected level_set_pair(const LevelSetBodyView& a, const LevelSetBodyView& b, const Pair& p,
+                         double equivalent, bool one_way) {
   const LevelSetContactSettings settings = engine_settings();
   const RelativePose b_in_a{transpose(p.rotation_a) * p.rotation_b,
                             transpose_times(p.rotation_a, p.offset)};
   const RelativePose a_in_b{transpose(p.rotation_b) * p.rotation_a,
                             transpose_times(p.rotation_b, -p.offset)};
   Collected found(settings, equivalent);
-  points_inside(body, body, b_in_a, found);
+  points_inside(a, b, b_in_a, found);
   if (one_way)
     return found;
   Swapped swapped{found, b_in_a};
-  points_inside(body, body, a_in_b, swapped);
+  points_inside(b, a, a_in_b, swapped);
   return found;
 }
 
@@ -218,13 +224,78 @@ template <class F> double seconds_per_call(int repeat, int calls, F&& sweep) {
   return median(times);
 }
 
+LevelSetBody default_level_set(const SuperquadricShape& s) {
+  const TriangleMesh mesh = superquadric_core(s.a, s.b, s.c, s.n1, s.n2, 8000);
+  std::vector<Vec3> points;
+  for (const auto& q : mesh.points)
+    points.push_back(Vec3{q[0], q[1], q[2]});
+  LevelSetOptions options;
+  options.spacing = 2 * s.c / 40;
+  options.point_spacing = 2 * options.spacing;
+  return build_level_set(points, mesh.triangles, options);
+}
+
+// One CSV row per pose of `in_path`: the exact overlap and normal (world, from b towards a;
+// status 0 = solved) and the level sets' (force-weighted, as the accuracy sweep).
+int evaluate_given_pairs(const std::vector<Shape>& shapes, const std::string& in_path,
+                         const std::string& out_path) {
+  std::ifstream in(in_path);
+  if (!in) {
+    std::fprintf(stderr, "%s: cannot be read\n", in_path.c_str());
+    return 1;
+  }
+  std::vector<LevelSetBody> bodies;
+  for (const Shape& shape : shapes)
+    bodies.push_back(default_level_set(shape.s));
+  const NarrowPhaseControls controls;
+  std::string csv = "shape_a,shape_b,exact_status,exact_touching,exact_overlap,exact_nx,exact_ny,"
+                    "exact_nz,level_set_touching,level_set_overlap,level_set_nx,level_set_ny,"
+                    "level_set_nz\n";
+  const auto equivalent = [&](int k) { return std::cbrt(3 * bodies[k].mass.volume / (4 * pi)); };
+  int ka = 0, kb = 0, line = 0;
+  while (in >> ka) {
+    ++line;
+    in >> kb;
+    Pair p;
+    for (auto* r : {&p.rotation_a, &p.rotation_b})
+      for (auto& row : r->m)
+        for (double& x : row)
+          in >> x;
+    in >> p.offset.x >> p.offset.y >> p.offset.z;
+    const int count = int(shapes.size());
+    if (!in || ka < 0 || ka >= count || kb < 0 || kb >= count) {
+      std::fprintf(stderr, "%s: line %d: expected two shape indices below %d and 21 numbers\n",
+                   in_path.c_str(), line, count);
+      return 1;
+    }
+    const NarrowPhaseResult exact = superquadric_pair_contact(
+        PosedSuperquadric{shapes[ka].s, Vec3{}, p.rotation_a},
+        PosedSuperquadric{shapes[kb].s, p.offset, p.rotation_b}, MidwayState{}, controls);
+    const Averaged a = averaged(level_set_pair(view_of(bodies[ka]), view_of(bodies[kb]), p,
+                                               std::min(equivalent(ka), equivalent(kb)), false));
+    const Vec3 n = p.rotation_a * a.normal;
+    char row[600];
+    std::snprintf(row, sizeof row,
+                  "%d,%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%.17g,%.17g\n", ka, kb,
+                  exact.status, int(exact.geometry.touching), exact.geometry.overlap,
+                  exact.geometry.normal.x, exact.geometry.normal.y, exact.geometry.normal.z,
+                  int(a.touching), a.overlap, n.x, n.y, n.z);
+    csv += row;
+  }
+  const std::string tmp = out_path + ".tmp";
+  std::ofstream(tmp) << csv;
+  std::rename(tmp.c_str(), out_path.c_str());
+  std::printf("wrote %s (%d pairs)\n", out_path.c_str(), line);
+  return 0;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
   int repeat = 5, pair_count = 300;
   double cell_size = LevelSetOptions{}.cell_size_in_point_spacings;
   bool quick = false, one_way = false;
-  std::string pairs_out;
+  std::string pairs_out, pairs_in, pairs_eval_out;
   std::string out = "perf/results/level_set_accuracy.json";
   for (int k = 1; k < argc; ++k) {
     if (std::strcmp(argv[k], "--repeat") == 0 && k + 1 < argc)
@@ -241,15 +312,27 @@ int main(int argc, char** argv) {
       one_way = true;
     else if (std::strcmp(argv[k], "--pairs-out") == 0 && k + 1 < argc)
       pairs_out = argv[++k];
+    else if (std::strcmp(argv[k], "--pairs-in") == 0 && k + 1 < argc)
+      pairs_in = argv[++k];
+    else if (std::strcmp(argv[k], "--pairs-eval-out") == 0 && k + 1 < argc)
+      pairs_eval_out = argv[++k];
     else {
       std::fprintf(stderr, "usage: kdem_bench_level_set_accuracy [--repeat R] [--pairs N] "
                            "[--out FILE.json] [--cell-size POINT_SPACINGS] [--quick] [--one-way] "
-                           "[--pairs-out PAIRS.json]\n");
+                           "[--pairs-out PAIRS.json] | --pairs-in POSES.txt --pairs-eval-out "
+                           "FILE.csv\n");
       return 2;
     }
   }
   const std::vector<Shape> shapes = {{"ellipsoid_1_0.7_0.5", make_superquadric(1, 0.7, 0.5, 2, 2)},
                                      {"blocky_1_0.8_0.6_n4", make_superquadric(1, 0.8, 0.6, 4, 4)}};
+  if (!pairs_in.empty() || !pairs_eval_out.empty()) {
+    if (pairs_in.empty() || pairs_eval_out.empty()) {
+      std::fprintf(stderr, "--pairs-in and --pairs-eval-out go together\n");
+      return 2;
+    }
+    return evaluate_given_pairs(shapes, pairs_in, pairs_eval_out);
+  }
   // --quick: the default resolution and one finer point spacing only.
   const std::vector<int> node_counts =
       quick ? std::vector<int>{8000} : std::vector<int>{2000, 8000};
@@ -304,7 +387,7 @@ int main(int argc, char** argv) {
           std::vector<double> overlap_errors, normal_errors;
           int missed = 0;
           for (const Pair& p : all) {
-            const Averaged a = averaged(level_set_pair(view, p, equivalent, one_way));
+            const Averaged a = averaged(level_set_pair(view, view, p, equivalent, one_way));
             if (!a.touching) {
               ++missed;
               overlap_errors.push_back(1.0);
@@ -318,7 +401,7 @@ int main(int argc, char** argv) {
           const double seconds = seconds_per_call(repeat, pair_count, [&] {
             int sink = 0;
             for (const Pair& p : all)
-              sink += level_set_pair(view, p, equivalent, one_way).count;
+              sink += level_set_pair(view, view, p, equivalent, one_way).count;
             if (sink == -1)
               std::puts("");
           });
@@ -326,7 +409,8 @@ int main(int argc, char** argv) {
           const double every_point_seconds = seconds_per_call(repeat, pair_count, [&] {
             int sink = 0;
             for (const Pair& p : all)
-              sink += level_set_pair(every_point.view, p, equivalent, one_way).count;
+              sink +=
+                  level_set_pair(every_point.view, every_point.view, p, equivalent, one_way).count;
             if (sink == -1)
               std::puts("");
           });

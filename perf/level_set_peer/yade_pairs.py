@@ -3,42 +3,37 @@
 # in the exact narrow phase. Each shape is Yade's predefined superellipsoid (epsilons 2 / n, the
 # same surface), on a grid of the same spacing (a fortieth of the smallest extent 2c) with about
 # as many surface nodes as kdem's defaults give (Yade wants a square plus 2). All pairs of a shape
-# are set up at once, far apart, static; each step computes every pair's geometry
-# (Ig2_LevelSet_LevelSet_ScGeom); the time per pair is the median over steps of the step's time
-# (collider, geometry, the linear contact law) over the pair count, one thread.
+# are set up at once, far apart, static, every body holding the shape's one grid (yade_common);
+# each step computes every pair's geometry (Ig2_LevelSet_LevelSet_ScGeom); the time per pair is
+# the median over steps of the step's time (collider, geometry, the linear contact law) over the
+# pair count, one thread.
 #
-#   yade -j1 -n -x perf/yade_level_set_pairs.py PAIRS.json OUT.json [STEPS]
+#   yade -j1 -n -x perf/level_set_peer/yade_pairs.py PAIRS.json OUT.json [STEPS]
 #
 # PAIRS.json: kdem_bench_level_set_accuracy --pairs-out. OUT.json: per shape, the median and
 # largest relative overlap error (against the exact overlap; a pair not found counts 1), the
 # median and largest normal error (rad), and the time per pair.
 import json
 import math
+import os
 import statistics
 import sys
 import time
 
-from yade import *  # noqa: F401,F403  (inside yade: O, levelSetBody, the functors)
+from yade import *  # noqa: F401,F403  (inside yade: O, the functors)
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(sys.argv[0])))  # inside yade: the script
+from yade_common import SPACING_CELLS, body_like, prototype, quaternion_of  # noqa: E402
 
 SURFACE_NODES = {"ellipsoid_1_0.7_0.5": 42 * 42 + 2, "blocky_1_0.8_0.6_n4": 45 * 45 + 2}
-SPACING_CELLS = 40
 SEPARATION = 10.0  # between pairs, in units of the shape's largest half-axis
 
 
-def quaternion_of(rows):
-    return Quaternion(Matrix3(*rows))
-
-
-def add_pair(shape, pair, origin, nodes):
-    a, b, c = shape["half_axes"]
-    epsilons = (2.0 / shape["n1"], 2.0 / shape["n2"])
-    spacing = 2 * c / SPACING_CELLS
+def add_pair(proto, pair, origin):
     ids = []
     for rows, centre in ((pair["rotation_a"], origin),
                          (pair["rotation_b"], origin + Vector3(*pair["offset"]))):
-        body = levelSetBody("superellipsoid", center=centre, extents=(a, b, c), epsilons=epsilons,
-                            spacing=spacing, nSurfNodes=nodes, nodesPath=1, dynamic=False)
-        body.state.ori = quaternion_of(rows)
+        body = body_like(proto, centre, quaternion_of(rows), O.materials[0], dynamic=False)
         ids.append(O.bodies.append(body))
     return ids
 
@@ -49,11 +44,13 @@ def angle(u, v):
 
 def run_shape(shape, steps):
     O.reset()
+    O.materials.append(FrictMat())
     nodes = SURFACE_NODES[shape["name"]]
     a = shape["half_axes"][0]
+    proto = prototype(shape["half_axes"], shape["n1"], shape["n2"], nodes, O.materials[0])
     pairs = []
     for k, pair in enumerate(shape["pairs"]):
-        pairs.append(add_pair(shape, pair, Vector3(SEPARATION * a * k, 0, 0), nodes))
+        pairs.append(add_pair(proto, pair, Vector3(SEPARATION * a * k, 0, 0)))
     O.engines = [ForceResetter(), InsertionSortCollider([Bo1_LevelSet_Aabb()], verletDist=0),
                  InteractionLoop([Ig2_LevelSet_LevelSet_ScGeom()],
                                  [Ip2_FrictMat_FrictMat_FrictPhys()],
@@ -93,7 +90,7 @@ def run_shape(shape, steps):
 
 def main():
     if len(sys.argv) < 3:
-        sys.exit("usage: yade -j1 -n -x perf/yade_level_set_pairs.py PAIRS.json OUT.json [STEPS]")
+        sys.exit("usage: yade -j1 -n -x perf/level_set_peer/yade_pairs.py PAIRS.json OUT.json [STEPS]")
     with open(sys.argv[1]) as f:
         given = json.load(f)
     steps = int(sys.argv[3]) if len(sys.argv) > 3 else 5
@@ -103,7 +100,6 @@ def main():
     with open(tmp, "w") as f:
         json.dump(result, f, indent=2)
         f.write("\n")
-    import os
     os.replace(tmp, sys.argv[2])
     print(json.dumps(result, indent=1))
 
