@@ -22,8 +22,9 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from peer_common import (SHAPES, checkpoint_bodies, kinetic_energy, random_rotation,  # noqa: E402
-                         read_radii, shape_entry, source_entry, write)
+from peer_common import (SHAPES, case_for_yade, checkpoint_bodies, kinetic_energy,  # noqa: E402
+                         random_rotation, read_radii, shape_entry, source_entry, write,
+                         write_scenes)
 
 COLLISIONS = 10         # per shape
 SPEED = 0.5             # m/s, each body, towards the other
@@ -39,10 +40,6 @@ DURATION = 0.04         # s: the widest start gap closes within 10 ms; then ever
 SEED = 20261207
 SCENES = {"level_set": ("level_set", 1.0), "exact": ("superquadric", 1.0),
           "exact_stiff": ("superquadric", STIFF_FACTOR)}
-
-
-
-
 
 
 def collisions():
@@ -79,10 +76,6 @@ def bodies(radii):
     return out
 
 
-
-
-
-
 def scene_text(scene, radii):
     family, stiffness = SCENES[scene]
     all_bodies = bodies(radii)
@@ -108,34 +101,8 @@ shapes:
 
 
 def yade_case(radii):
-    return {"density": DENSITY, "youngs_modulus": YOUNGS_MODULUS, "poisson_ratio": POISSON_RATIO,
-            "time_step": TIME_STEP, "duration": DURATION,
-            "shapes": {name: {"half_axes": list(axes), "n1": n1, "n2": n2}
-                       for name, (axes, n1, n2) in SHAPES.items()},
-            "bodies": [dict(b, rotation=[float(x) for x in b["rotation"].flatten()])
-                       for b in bodies(radii)]}
-
-
-
-
-def write_scenes(folder, radii_path):
-    radii = None
-    if radii_path:
-        with open(radii_path) as f:
-            radii = json.load(f)
-    os.makedirs(folder, exist_ok=True)
-    for scene in SCENES:
-        write(os.path.join(folder, f"impact_{scene}.yaml"), scene_text(scene, radii))
-    if radii:
-        write(os.path.join(folder, "impact_case.json"), json.dumps(yade_case(radii), indent=1))
-
-
-
-
-
-
-
-
+    return case_for_yade(bodies(radii), density=DENSITY, youngs_modulus=YOUNGS_MODULUS,
+                         poisson_ratio=POISSON_RATIO, time_step=TIME_STEP, duration=DURATION)
 
 
 def apart(a, b, radius):
@@ -235,7 +202,8 @@ def analyse(folder, yade_path, target):
 
 def main():
     if len(sys.argv) >= 3 and sys.argv[1] == "scenes":
-        write_scenes(sys.argv[2], sys.argv[3] if len(sys.argv) > 3 else None)
+        write_scenes(sys.argv[2], "impact", SCENES, scene_text, yade_case,
+                     sys.argv[3] if len(sys.argv) > 3 else None)
     elif len(sys.argv) == 4 and sys.argv[1] == "radii":
         read_radii(sys.argv[2], "impact", SCENES, sys.argv[3])
     elif len(sys.argv) == 5 and sys.argv[1] == "analyse":

@@ -44,7 +44,8 @@ def shape_entry(name, family):
     if family == "level_set":
         return (f"  - name: {name}\n    level_set: {{superquadric: {{a: {a}, b: {b}, c: {c}, "
                 f"n1: {n1}, n2: {n2}}}}}\n")
-    return f"  - name: {name}\n    superquadric: {{half_axes: [{a}, {b}, {c}], blockiness: [{n1}, {n2}]}}\n"
+    return (f"  - name: {name}\n    superquadric: {{half_axes: [{a}, {b}, {c}], "
+            f"blockiness: [{n1}, {n2}]}}\n")
 
 
 def source_entry(body, half):
@@ -101,3 +102,27 @@ def kinetic_energy(body):
             else rotation_of(body["orientation"]))
     w_body = turn.T @ np.asarray(body["angular_velocity"])
     return 0.5 * m * v @ v, 0.5 * w_body @ (np.asarray(body["inertia"]) * w_body)
+
+
+def case_for_yade(bodies, **settings):
+    """What the Yade scripts read: the settings, the shapes, and every body (its rotation as 9
+    numbers, row by row)."""
+    return dict(settings,
+                shapes={name: {"half_axes": list(axes), "n1": n1, "n2": n2}
+                        for name, (axes, n1, n2) in SHAPES.items()},
+                bodies=[dict(b, rotation=[float(x) for x in b["rotation"].flatten()])
+                        for b in bodies])
+
+
+def write_scenes(folder, prefix, scene_names, scene_text, yade_case, radii_path):
+    """Writes FOLDER/PREFIX_<scene>.yaml per scene and, once the radii are known (RADII.json),
+    FOLDER/PREFIX_case.json for Yade."""
+    radii = None
+    if radii_path:
+        with open(radii_path) as f:
+            radii = json.load(f)
+    os.makedirs(folder, exist_ok=True)
+    for scene in scene_names:
+        write(os.path.join(folder, f"{prefix}_{scene}.yaml"), scene_text(scene, radii))
+    if radii:
+        write(os.path.join(folder, f"{prefix}_case.json"), json.dumps(yade_case(radii), indent=1))

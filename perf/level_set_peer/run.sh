@@ -1,13 +1,14 @@
 #!/bin/bash
 # kdem's level-set bodies beside Yade's level-set DEM (docs/performance.md, section 29), one
 # thread each: (1) the accuracy bench's 300 pairs per shape, static; (2) two bodies colliding,
-# 10 eccentric elastic collisions per shape; (3) a small packing of 36 bodies. (2) and (3) run
-# the same scenes in kdem's exact superquadric family as the reference. Writes
+# 10 eccentric elastic collisions per shape; (3) a small packing of 36 bodies, at three time steps
+# in each code. (2) and (3) run the same scenes in kdem's exact superquadric family as the
+# reference. Writes
 # perf/results/level_set_peer_{pairs_kdem,pairs_yade,impact,packing}.json.
 #
 # usage: perf/level_set_peer/run.sh [pairs] [impact] [packing]   (default: all three)
 # Needs build/openmp (kdem, kdem_bench_level_set_accuracy) and Debian's `yade`
-# (apt-get install yade). Runs go to out/level_set_peer/ (git-ignored). About 10 minutes.
+# (apt-get install yade). Runs go to out/level_set_peer/ (git-ignored). About 25 minutes (Yade's three packings: 15).
 set -euo pipefail
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 ROOT="$(cd "$HERE/../.." && pwd)"
@@ -60,15 +61,16 @@ impact() {
 }
 
 packing() {
-  local folder="$OUT/packing"
-  placed_runs packing.py "$folder" packing level_set exact
-  yade_run "$HERE/yade_packing.py" "$folder/packing_case.json" "$folder/yade_packing.json"
-  "$PYTHON" "$HERE/packing.py" poses "$folder" "$folder/yade_packing.json" "$folder/poses.txt"
+  local folder="$OUT/packing" factors="1.0 0.9 0.8"
+  placed_runs packing.py "$folder" packing $(for f in $factors; do echo level_set_$f exact_$f; done)
+  for f in $factors; do
+    yade_run "$HERE/yade_packing.py" "$folder/packing_case.json" "$folder/yade_packing_$f.json" "$f"
+  done
+  "$PYTHON" "$HERE/packing.py" poses "$folder" "$folder/poses.txt"
   "$BIN/kdem_bench_level_set_accuracy" --pairs-in "$folder/poses.txt" \
     --pairs-eval-out "$folder/poses_evaluated.csv"
-  "$PYTHON" "$HERE/packing.py" analyse "$folder" "$folder/yade_packing.json" \
-    "$folder/poses.txt" "$folder/poses_evaluated.csv" "$RESULTS/level_set_peer_packing.json" \
-    > /dev/null
+  "$PYTHON" "$HERE/packing.py" analyse "$folder" "$folder/poses.txt" \
+    "$folder/poses_evaluated.csv" "$RESULTS/level_set_peer_packing.json" > /dev/null
 }
 
 for part in ${@:-pairs impact packing}; do

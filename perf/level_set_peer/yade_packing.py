@@ -5,8 +5,9 @@
 # damping at the scene's restitution, normal and tangential (en = es), and friction; no numerical
 # damping; one thread.
 #
-#   yade -j1 -n -x perf/level_set_peer/yade_packing.py packing_case.json OUT.json
+#   yade -j1 -n -x perf/level_set_peer/yade_packing.py packing_case.json OUT.json [FACTOR]
 #
+# FACTOR (default 1) multiplies the case's time step (packing.py runs 1, 0.9 and 0.8).
 # OUT.json: per body its final state (as yade_impact.py), every level-set pair in contact at the
 # end (penetration depth, normal from the second body towards the first, by name), the run's
 # wall time and steps.
@@ -22,7 +23,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(sys.argv[0])))  # inside yade
 from yade_common import SURFACE_NODES, body_like, prototype, quaternion_of, state_of  # noqa: E402
 
 
-def build(case):
+def build(case, step_factor):
     O.reset()
     material = FrictMat(young=case["youngs_modulus"], poisson=case["poisson_ratio"],
                         density=case["density"], frictionAngle=math.atan(case["friction"]))
@@ -46,7 +47,7 @@ def build(case):
                                      es=MatchMaker(algo="val", val=e))],
                                  [Law2_ScGeom_MindlinPhys_Mindlin()]),
                  NewtonIntegrator(damping=0, gravity=(0, 0, -9.81))]
-    O.dt = case["time_step"]
+    O.dt = case["time_step"] * step_factor
     return names
 
 
@@ -68,14 +69,16 @@ def contacts(names):
 
 
 def main():
-    if len(sys.argv) != 3:
-        sys.exit("usage: yade -j1 -n -x perf/level_set_peer/yade_packing.py CASE.json OUT.json")
+    if len(sys.argv) not in (3, 4):
+        sys.exit("usage: yade -j1 -n -x perf/level_set_peer/yade_packing.py CASE.json OUT.json "
+                 "[FACTOR]")
+    step_factor = float(sys.argv[3]) if len(sys.argv) == 4 else 1.0
     with open(sys.argv[1]) as f:
         case = json.load(f)
     start = time.perf_counter()
-    names = build(case)
+    names = build(case, step_factor)
     set_up = time.perf_counter() - start
-    steps = int(round(case["duration"] / case["time_step"]))
+    steps = int(round(case["duration"] / O.dt))
     start = time.perf_counter()
     O.run(steps, True)
     seconds = time.perf_counter() - start

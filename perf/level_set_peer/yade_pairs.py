@@ -90,7 +90,8 @@ def run_shape(shape, steps):
 
 def main():
     if len(sys.argv) < 3:
-        sys.exit("usage: yade -j1 -n -x perf/level_set_peer/yade_pairs.py PAIRS.json OUT.json [STEPS]")
+        sys.exit("usage: yade -j1 -n -x perf/level_set_peer/yade_pairs.py PAIRS.json OUT.json "
+                 "[STEPS]")
     with open(sys.argv[1]) as f:
         given = json.load(f)
     steps = int(sys.argv[3]) if len(sys.argv) > 3 else 5
