@@ -11,7 +11,7 @@ two end states are bit-identical.
       --append-b "superquadric_contact: {compact_candidates: false}" ...
 
 --append-a/--append-b add YAML lines to the scene of that variant (top-level keys the scene
-does not have yet).
+does not have yet). A --scenes entry ending in .yaml is a scene file, settled --settle steps.
 """
 
 import argparse
@@ -48,6 +48,8 @@ def main():
     parser.add_argument("--append-a", default="")
     parser.add_argument("--append-b", default="")
     parser.add_argument("--scenes", default="cubes")
+    parser.add_argument("--settle", type=int, default=10000,
+                        help="steps that settle a scene given as a file")
     parser.add_argument("--steps", type=int, default=2000)
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--threads", type=int, default=2)
@@ -61,10 +63,13 @@ def main():
               "threads": args.threads, "steps": args.steps, "repeat": args.repeat,
               "started": time.strftime("%Y-%m-%d %H:%M:%S %Z"),
               "load_average_start": os.getloadavg()[0], "scenes": {}}
-    for name in [n for n in args.scenes.split(",") if n]:
-        scene = ROOT / "perf/callgrind" / f"{name}.yaml"
+    for entry in [n for n in args.scenes.split(",") if n]:
+        from_file = entry.endswith(".yaml")
+        scene = Path(entry).resolve() if from_file else ROOT / "perf/callgrind" / f"{entry}.yaml"
+        name = scene.stem
         settled = out / f"{name}_settled"
-        run(args.a, scene, settled, args.threads, ["--steps", str(SETTLE_STEPS[name])])
+        settle = args.settle if from_file else SETTLE_STEPS[name]
+        run(args.a, scene, settled, args.threads, ["--steps", str(settle)])
         start = settled / "checkpoint.h5"
         variants = {}
         for key, extra in (("a", args.append_a), ("b", args.append_b)):

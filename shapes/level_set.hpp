@@ -148,6 +148,44 @@ struct LevelSetBodyView {
       }
   }
 
+  // Calls visit(q) for the index q of every point in the cells that reach below the plane through
+  // `origin` with unit normal n (the side n points away from), in index order; a point below is
+  // always visited. Each row of cells along x holds its points in one run, and the cells of a row
+  // that reach below the plane are a run of it: one range per row, found from the height of the
+  // row's first cell's lowest corner.
+  template <class Visit>
+  KOKKOS_INLINE_FUNCTION void for_points_below_plane(Vec3 origin, Vec3 n,
+                                                     const Visit& visit) const {
+    const LevelSetPointCells& c = cells;
+    const double s = c.size;
+    // From a cell's low corner to its lowest corner along n, less a margin for rounding.
+    const double drop =
+        s * (math::min(n.x, 0.0) + math::min(n.y, 0.0) + math::min(n.z, 0.0)) - 1e-9 * reach;
+    const double box_drop = (c.hi.x - c.lo.x) * math::min(n.x, 0.0) +
+                            (c.hi.y - c.lo.y) * math::min(n.y, 0.0) +
+                            (c.hi.z - c.lo.z) * math::min(n.z, 0.0) - 1e-9 * reach;
+    if (!(dot(c.lo - origin, n) + box_drop < 0))
+      return;
+    const double step = n.x * s; // the lowest corner's rise from one cell of a row to the next
+    for (int k = 0; k < c.nz; ++k)
+      for (int j = 0; j < c.ny; ++j) {
+        const Vec3 row_lo{c.lo.x, c.lo.y + j * s, c.lo.z + k * s};
+        const double first = dot(row_lo - origin, n) + drop; // cell i reaches first + step i
+        int i0 = 0, i1 = c.nx - 1;
+        if (step > 0) // cells i < -first / step: i <= ceil(-first / step) - 1
+          i1 = int(math::max(math::min(-math::floor(first / step), double(c.nx)), 0.0)) - 1;
+        else if (step < 0) // cells i > -first / step: i >= floor(-first / step) + 1
+          i0 = int(math::min(math::max(math::floor(-first / step), -1.0), double(c.nx))) + 1;
+        else if (!(first < 0))
+          continue;
+        if (i0 > i1)
+          continue;
+        const int last = cell_first[c.index(i1, j, k) + 1];
+        for (int q = cell_first[c.index(i0, j, k)]; q < last; ++q)
+          visit(q);
+      }
+  }
+
   // for_points_in_box over the box of the ball (centre, radius).
   template <class Visit>
   KOKKOS_INLINE_FUNCTION void for_points_in_ball_box(Vec3 centre, double radius,
@@ -209,11 +247,11 @@ KOKKOS_INLINE_FUNCTION void points_inside(const LevelSetBodyView& a, const Level
 template <class Sink>
 KOKKOS_INLINE_FUNCTION void points_beyond_plane(const LevelSetBodyView& body, Vec3 origin, Vec3 n,
                                                 Sink& sink) {
-  for (int q = 0; q < body.point_count; ++q) {
+  body.for_points_below_plane(origin, n, [&](int q) {
     const Vec3 x = body.points[q];
     const double height = dot(x - origin, n);
     if (!(height < 0))
-      continue;
+      return;
     FeatureContact c;
     c.overlap = -height;
     c.normal = n;
@@ -221,7 +259,7 @@ KOKKOS_INLINE_FUNCTION void points_beyond_plane(const LevelSetBodyView& body, Ve
     c.feature_a = 1 + q;
     c.feature_b = 0;
     sink.add(c);
-  }
+  });
 }
 
 // The surface points of a body (its frame) beyond the curved wall of a cylinder seen from inside

@@ -1,7 +1,8 @@
 // The cells a level-set body's surface points are sorted into, and the tests that skip points by
 // them: a box query visits every point in the box (against a brute-force scan), the culled
-// points-in-grid test (the cells under the other body's box) finds exactly what testing every
-// point finds, two bodies whose boxes are apart have no point inside
+// points-in-grid test (the cells under the other body's box) and the points beyond a plane (the
+// cells that reach below it) find exactly what testing every point finds, two bodies whose boxes
+// are apart have no point inside
 // the other, and a chosen point count is met within 1 %.
 #include <gtest/gtest.h>
 
@@ -147,6 +148,51 @@ void expect_same(const std::vector<Found>& found, const std::vector<Found>& ever
     ASSERT_EQ(found[k].overlap, every[k].overlap) << "trial " << trial;
     ASSERT_EQ(found[k].normal.x, every[k].normal.x) << "trial " << trial;
     ASSERT_EQ(found[k].normal.z, every[k].normal.z) << "trial " << trial;
+  }
+}
+
+// The points of a body beyond a plane (wall contacts), through the cells that reach below it,
+// against testing every point: 3000 planes of random normals (a third along an axis, where a row
+// of cells lies level) through points in and around the rod and the ball: the same points in the
+// same order, with the same overlaps bit for bit; at least 500 planes cut the body and miss more
+// than half its points, and there far fewer points are visited than the body has.
+TEST(LevelSetCells, PlaneQueryFindsWhatEveryPointFinds) {
+  std::mt19937_64 rng(29);
+  struct Beyond {
+    std::vector<Found> found;
+    void add(const FeatureContact& c) { found.push_back({c.feature_a - 1, c.overlap, c.normal}); }
+  };
+  for (const LevelSetBody& body : {rod(), ball()}) {
+    const LevelSetBodyView view = view_of(body);
+    int cutting = 0;
+    long long visited_cutting = 0;
+    for (int trial = 0; trial < 3000; ++trial) {
+      Vec3 n = random_unit(rng);
+      if (trial % 3 == 0) {
+        const int axis = trial / 3 % 3;
+        n = Vec3{axis == 0 ? 1.0 : 0.0, axis == 1 ? 1.0 : 0.0, axis == 2 ? 1.0 : 0.0};
+        n = (trial / 9 % 2 == 0 ? 1.0 : -1.0) * n;
+      }
+      const Vec3 origin{uniform(rng, -0.6, 0.6), uniform(rng, -0.3, 0.3), uniform(rng, -0.3, 0.3)};
+      std::vector<Found> every;
+      for (int q = 0; q < view.point_count; ++q) {
+        const double height = dot(view.points[q] - origin, n);
+        if (height < 0)
+          every.push_back({q, -height, n});
+      }
+      Beyond culled;
+      points_beyond_plane(view, origin, n, culled);
+      expect_same(culled.found, every, trial);
+      int visited = 0;
+      view.for_points_below_plane(origin, n, [&](int) { ++visited; });
+      if (!every.empty() && 2 * every.size() < std::size_t(view.point_count)) {
+        ++cutting;
+        visited_cutting += visited;
+      }
+    }
+    EXPECT_GE(cutting, 500);
+    EXPECT_LT(double(visited_cutting) / cutting, 0.6 * view.point_count)
+        << "points visited per cutting plane, of " << view.point_count;
   }
 }
 
