@@ -224,15 +224,31 @@ template <class F> double seconds_per_call(int repeat, int calls, F&& sweep) {
   return median(times);
 }
 
-LevelSetBody default_level_set(const SuperquadricShape& s) {
-  const TriangleMesh mesh = superquadric_core(s.a, s.b, s.c, s.n1, s.n2, 8000);
+std::vector<Vec3> points_of(const TriangleMesh& mesh) {
   std::vector<Vec3> points;
   for (const auto& q : mesh.points)
     points.push_back(Vec3{q[0], q[1], q[2]});
+  return points;
+}
+
+// A grid of `cells` across the smallest extent 2c, points `ratio` grid spacings apart.
+LevelSetOptions options_for(const SuperquadricShape& s, double cells, double ratio,
+                            double cell_size) {
   LevelSetOptions options;
-  options.spacing = 2 * s.c / 40;
-  options.point_spacing = 2 * options.spacing;
-  return build_level_set(points, mesh.triangles, options);
+  options.spacing = 2 * s.c / cells;
+  options.point_spacing = ratio * options.spacing;
+  options.cell_size_in_point_spacings = cell_size;
+  return options;
+}
+
+double equivalent_radius(const LevelSetBody& body) {
+  return std::cbrt(3 * body.mass.volume / (4 * pi));
+}
+
+LevelSetBody default_level_set(const SuperquadricShape& s) {
+  const TriangleMesh mesh = superquadric_core(s.a, s.b, s.c, s.n1, s.n2, 8000);
+  return build_level_set(points_of(mesh), mesh.triangles,
+                         options_for(s, 40, 2, LevelSetOptions{}.cell_size_in_point_spacings));
 }
 
 // One CSV row per pose of `in_path`: the exact overlap and normal (world, from b towards a;
@@ -251,7 +267,6 @@ int evaluate_given_pairs(const std::vector<Shape>& shapes, const std::string& in
   std::string csv = "shape_a,shape_b,exact_status,exact_touching,exact_overlap,exact_nx,exact_ny,"
                     "exact_nz,level_set_touching,level_set_overlap,level_set_nx,level_set_ny,"
                     "level_set_nz\n";
-  const auto equivalent = [&](int k) { return std::cbrt(3 * bodies[k].mass.volume / (4 * pi)); };
   int ka = 0, kb = 0, line = 0;
   while (in >> ka) {
     ++line;
@@ -271,8 +286,9 @@ int evaluate_given_pairs(const std::vector<Shape>& shapes, const std::string& in
     const NarrowPhaseResult exact = superquadric_pair_contact(
         PosedSuperquadric{shapes[ka].s, Vec3{}, p.rotation_a},
         PosedSuperquadric{shapes[kb].s, p.offset, p.rotation_b}, MidwayState{}, controls);
-    const Averaged a = averaged(level_set_pair(view_of(bodies[ka]), view_of(bodies[kb]), p,
-                                               std::min(equivalent(ka), equivalent(kb)), false));
+    const Averaged a = averaged(level_set_pair(
+        view_of(bodies[ka]), view_of(bodies[kb]), p,
+        std::min(equivalent_radius(bodies[ka]), equivalent_radius(bodies[kb])), false));
     const Vec3 n = p.rotation_a * a.normal;
     char row[600];
     std::snprintf(row, sizeof row,
@@ -369,21 +385,16 @@ int main(int argc, char** argv) {
     bool first = true;
     for (int nodes : node_counts) {
       const TriangleMesh mesh = superquadric_core(s.a, s.b, s.c, s.n1, s.n2, nodes);
-      std::vector<Vec3> points;
-      for (const auto& q : mesh.points)
-        points.push_back(Vec3{q[0], q[1], q[2]});
+      const std::vector<Vec3> points = points_of(mesh);
       for (double cells : cells_across)
         for (double ratio : point_over_grid) {
-          LevelSetOptions options;
-          options.spacing = 2 * s.c / cells;
-          options.point_spacing = ratio * options.spacing;
-          options.cell_size_in_point_spacings = cell_size;
+          const LevelSetOptions options = options_for(s, cells, ratio, cell_size);
           const auto build_start = std::chrono::steady_clock::now();
           const LevelSetBody body = build_level_set(points, mesh.triangles, options);
           const double build_seconds =
               std::chrono::duration<double>(std::chrono::steady_clock::now() - build_start).count();
           const LevelSetBodyView view = view_of(body);
-          const double equivalent = std::cbrt(3 * body.mass.volume / (4 * pi));
+          const double equivalent = equivalent_radius(body);
           std::vector<double> overlap_errors, normal_errors;
           int missed = 0;
           for (const Pair& p : all) {

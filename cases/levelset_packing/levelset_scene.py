@@ -23,10 +23,9 @@ import os
 import subprocess
 import sys
 
-import h5py
-
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "polyhedra_packing"))
+import calibrate as pcal  # noqa: E402
 import make_meshes  # noqa: E402
 import make_scene as pms  # noqa: E402
 
@@ -109,16 +108,7 @@ def probe_scene(scales):
 
 def measured_volumes(kdem, setup, scales):
     """(volume, bounding radius) of each shape as the engine builds it at these scales."""
-    scene = os.path.join(setup, "calibration.yaml")
-    pms.write(scene, probe_scene(scales))
-    run_dir = os.path.join(setup, "calibration_run")
-    subprocess.run([kdem, "run", scene, "--out", run_dir, "--quiet"], check=True)
-    with h5py.File(os.path.join(run_dir, "checkpoint.h5"), "r") as f:
-        source = f["particles/source"][:, 0]
-        mass = f["particles/mass"][:, 0]
-        radius = f["particles/radius"][:, 0]
-        names = f["source_names"][()].decode().split()
-    return {names[s]: (m / pms.DENSITY, float(r)) for s, m, r in zip(source, mass, radius)}
+    return pcal.engine_volumes(kdem, setup, probe_scene(scales))
 
 
 def calibrate(kdem, setup):

@@ -50,9 +50,11 @@ def probe_scene(scales):
             f"output: {{frame_interval: 0}}\n")
 
 
-def measure(kdem, out, scales, round_number):
+def engine_volumes(kdem, out, scene_text):
+    """(volume, bounding radius) per source of a one-step run of scene_text (one body per source,
+    named after its shape), as the engine builds them; the scene and run go to OUT."""
     scene = os.path.join(out, "calibration.yaml")
-    ms.write(scene, probe_scene(scales))
+    ms.write(scene, scene_text)
     run_dir = os.path.join(out, "calibration_run")
     subprocess.run([kdem, "run", scene, "--out", run_dir, "--quiet"], check=True)
     with h5py.File(os.path.join(run_dir, "checkpoint.h5"), "r") as f:
@@ -60,7 +62,11 @@ def measure(kdem, out, scales, round_number):
         mass = f["particles/mass"][:, 0]
         radius = f["particles/radius"][:, 0]
         names = f["source_names"][()].decode().split()
-    result = {names[s]: (m / ms.DENSITY, float(r)) for s, m, r in zip(source, mass, radius)}
+    return {names[s]: (m / ms.DENSITY, float(r)) for s, m, r in zip(source, mass, radius)}
+
+
+def measure(kdem, out, scales, round_number):
+    result = engine_volumes(kdem, out, probe_scene(scales))
     print(f"calibration round {round_number}: " + ", ".join(
         f"{n} {result[n][0] / ms.TARGET_VOLUME - 1:+.2e}" for n in ms.SHAPES))
     return result
